@@ -1,0 +1,135 @@
+#include "io/config.hpp"
+
+#include <fmt/format.h>
+
+#include "io/yaml_utils.hpp"
+
+namespace vkvo::io {
+
+Config Config::load(const std::filesystem::path& file) {
+  if (!std::filesystem::exists(file))
+    throw std::runtime_error(fmt::format("{}: config file does not exist", file.string()));
+  Config config;
+  config.root_ = load_yaml_file(file);
+  config.origin_ = file.string();
+  if (config.root_.IsDefined() && !config.root_.IsNull() && !config.root_.IsMap())
+    throw std::runtime_error(fmt::format("{}: top level must be a map of sections", file.string()));
+  return config;
+}
+
+Config Config::from_string(const std::string& text, const std::string& origin) {
+  Config config;
+  config.root_ = parse_yaml(text, origin);
+  config.origin_ = origin;
+  if (config.root_.IsDefined() && !config.root_.IsNull() && !config.root_.IsMap())
+    throw std::runtime_error(fmt::format("{}: top level must be a map of sections", origin));
+  return config;
+}
+
+YAML::Node Config::section(const std::string& name) const {
+  // Walk const nodes only: a non-const operator[] would insert the missing keys into the tree. `reset` rebinds
+  // the handle; assigning (`node = child`) would overwrite the referenced node's contents instead.
+  YAML::Node node;
+  node.reset(root_);
+  std::size_t start = 0;
+  while (start <= name.size()) {
+    const std::size_t dot = std::min(name.find('.', start), name.size());
+    if (!node.IsMap()) return YAML::Node();
+    const YAML::Node& parent = node;
+    const YAML::Node child = parent[name.substr(start, dot - start)];
+    if (!child.IsDefined()) return YAML::Node();
+    node.reset(child);
+    start = dot + 1;
+  }
+  return node;
+}
+
+bool Config::has_section(const std::string& name) const {
+  const YAML::Node node = section(name);
+  return node.IsDefined() && !node.IsNull();
+}
+
+namespace detail {
+void throw_param_error(const YAML::Node& node, const std::string& key, const char* expected) {
+  const auto mark = node.Mark();
+  const std::string where = mark.is_null() ? std::string() : fmt::format(" (line {})", mark.line + 1);
+  throw std::runtime_error(fmt::format("config key '{}'{}: expected {}", key, where, expected));
+}
+}  // namespace detail
+
+namespace {
+
+void apply_camera_keys(const YAML::Node& node, CameraCalibration& camera) {
+  read_param(node, "width", camera.width);
+  read_param(node, "height", camera.height);
+  read_param(node, "fx", camera.fx);
+  read_param(node, "fy", camera.fy);
+  read_param(node, "cx", camera.cx);
+  read_param(node, "cy", camera.cy);
+}
+
+void apply_per_camera_keys(const YAML::Node& node, const std::string& name, CameraCalibration& camera) {
+  if (!node.IsDefined() || node.IsNull()) return;
+  if (!node.IsMap()) throw std::runtime_error(fmt::format("config key 'camera.{}': expected a map", name));
+  apply_camera_keys(node, camera);
+  const auto model = param<std::string>(node, "distortion_model", "");
+  if (!model.empty()) {
+    try {
+      camera.distortion = parse_distortion_model(model);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(fmt::format("config key 'camera.{}.distortion_model': {}", name, e.what()));
+    }
+  }
+  read_param(node, "distortion_coeffs", camera.distortion_coeffs);
+  const auto transform = param<std::vector<double>>(node, "T_body_camera", {});
+  if (!transform.empty()) {
+    try {
+      camera.T_body_camera = isometry_from_row_major(transform);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(fmt::format("config key 'camera.{}.T_body_camera': {}", name, e.what()));
+    }
+  }
+}
+
+}  // namespace
+
+StereoCalibration apply_camera_overrides(const YAML::Node& camera, StereoCalibration base) {
+  if (!camera.IsDefined() || camera.IsNull()) return base;
+  if (!camera.IsMap()) throw std::runtime_error("config section 'camera': expected a map");
+  apply_camera_keys(camera, base.left);
+  apply_camera_keys(camera, base.right);
+  if (camera["baseline"].IsDefined()) {
+    const double baseline = param<double>(camera, "baseline", 0.0);
+    if (!(baseline > 0)) throw std::runtime_error("config key 'camera.baseline': must be positive (metres)");
+    base.rectified = true;
+    base.right.T_body_camera = base.left.T_body_camera * Eigen::Translation3d(baseline, 0, 0);
+  }
+  read_param(camera, "rectified", base.rectified);
+  apply_per_camera_keys(camera["left"], "left", base.left);
+  apply_per_camera_keys(camera["right"], "right", base.right);
+  return base;
+}
+
+void validate_calibration(const StereoCalibration& calibration, const std::string& source) {
+  const auto check_camera = [&](const CameraCalibration& c, const char* side) {
+    const auto fail = [&](const char* field, const std::string& why) {
+      throw std::runtime_error(fmt::format("{}: {} camera: field '{}' {}", source, side, field, why));
+    };
+    if (c.width <= 0 || c.height <= 0) fail("width/height", "missing or not positive");
+    if (!(c.fx > 0)) fail("fx", "missing or not positive");
+    if (!(c.fy > 0)) fail("fy", "missing or not positive");
+    if (!(c.cx > 0)) fail("cx", "missing or not positive");
+    if (!(c.cy > 0)) fail("cy", "missing or not positive");
+    const std::size_t n = c.distortion_coeffs.size();
+    if (c.distortion == DistortionModel::radtan && n != 4 && n != 5)
+      fail("distortion_coeffs", fmt::format("radtan needs 4 or 5 coefficients, got {}", n));
+    if (c.distortion == DistortionModel::equidistant && n != 4)
+      fail("distortion_coeffs", fmt::format("equidistant needs 4 coefficients, got {}", n));
+  };
+  check_camera(calibration.left, "left");
+  check_camera(calibration.right, "right");
+  if (!(calibration.baseline() > 1e-6))
+    throw std::runtime_error(fmt::format("{}: stereo baseline is zero (missing right camera extrinsics)", source));
+}
+
+}  // namespace vkvo::io

@@ -1,0 +1,100 @@
+#include "io/dataset.hpp"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <spdlog/spdlog.h>
+
+#include "io/config.hpp"
+
+namespace vkvo::io {
+
+namespace fs = std::filesystem;
+
+const char* to_string(DatasetKind kind) {
+  switch (kind) {
+    case DatasetKind::euroc: return "euroc";
+    case DatasetKind::kitti: return "kitti";
+  }
+  return "unknown";
+}
+
+const StereoFrame& StereoDataset::frame(std::size_t i) const {
+  if (i >= frames_.size())
+    throw std::out_of_range(fmt::format("{}: frame {} requested, dataset has {}", name_, i, frames_.size()));
+  return frames_[i];
+}
+
+StereoImages StereoDataset::load(std::size_t i) const {
+  return {load_left(i), load_right(i)};
+}
+
+cv::Mat StereoDataset::load_left(std::size_t i) const {
+  return load_image(frame(i).left, calibration_.left);
+}
+
+cv::Mat StereoDataset::load_right(std::size_t i) const {
+  return load_image(frame(i).right, calibration_.right);
+}
+
+cv::Mat StereoDataset::load_image(const fs::path& file, const CameraCalibration& camera) const {
+  if (!fs::is_regular_file(file)) throw std::runtime_error(fmt::format("{}: image file is missing", file.string()));
+  cv::Mat raw;
+  try {
+    raw = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error(fmt::format("{}: cannot decode image ({})", file.string(), e.what()));
+  }
+  if (raw.empty()) throw std::runtime_error(fmt::format("{}: cannot decode image (corrupt or unsupported)", file.string()));
+
+  cv::Mat gray = raw;
+  if (raw.channels() == 3) cv::cvtColor(raw, gray, cv::COLOR_BGR2GRAY);
+  else if (raw.channels() == 4) cv::cvtColor(raw, gray, cv::COLOR_BGRA2GRAY);
+  else if (raw.channels() != 1)
+    throw std::runtime_error(fmt::format("{}: unsupported channel count {}", file.string(), raw.channels()));
+  if (gray.depth() == CV_16U) gray.convertTo(gray, CV_8U, 1.0 / 256.0);
+  else if (gray.depth() != CV_8U)
+    throw std::runtime_error(fmt::format("{}: unsupported pixel depth (expected 8 or 16 bit)", file.string()));
+
+  if (camera.width > 0 && (gray.cols != camera.width || gray.rows != camera.height))
+    throw std::runtime_error(fmt::format("{}: image is {}x{} but the calibration says {}x{}", file.string(), gray.cols,
+                                         gray.rows, camera.width, camera.height));
+  return gray;
+}
+
+void StereoDataset::finish(const DatasetOptions& options, const std::string& calibration_source) {
+  std::string source = calibration_source;
+  if (options.camera_overrides.IsDefined() && !options.camera_overrides.IsNull()) {
+    calibration_ = apply_camera_overrides(options.camera_overrides, calibration_);
+    source += " + config camera section";
+  }
+  validate_calibration(calibration_, source);
+
+  const FrameRange& range = options.range;
+  if (range.stride == 0) throw std::runtime_error("frame range: stride must be at least 1");
+  const std::size_t total = frames_.size();
+  const std::size_t last = std::min(range.last.value_or(total == 0 ? 0 : total - 1), total == 0 ? 0 : total - 1);
+  if (total == 0 || range.first > last)
+    throw std::runtime_error(fmt::format("{}: frame range [{}, {}] selects no frames (the sequence has {})",
+                                         root_.string(), range.first,
+                                         range.last ? std::to_string(*range.last) : std::string("end"), total));
+  std::vector<StereoFrame> selected;
+  selected.reserve((last - range.first) / range.stride + 1);
+  for (std::size_t i = range.first; i <= last; i += range.stride) selected.push_back(frames_[i]);
+  frames_ = std::move(selected);
+  spdlog::info("dataset {} ({}): {} stereo frames of {}, {:.2f} s", name_, to_string(kind()), frames_.size(), total,
+               frames_.back().timestamp_s - frames_.front().timestamp_s);
+}
+
+std::unique_ptr<StereoDataset> open_dataset(const fs::path& path, const DatasetOptions& options) {
+  if (!fs::exists(path)) throw std::runtime_error(fmt::format("{}: dataset path does not exist", path.string()));
+  if (EurocDataset::find_root(path)) return std::make_unique<EurocDataset>(path, options);
+  if (KittiDataset::find_root(path)) return std::make_unique<KittiDataset>(path, options);
+  throw std::runtime_error(fmt::format(
+      "{}: not a recognised dataset (expected EuRoC mav0/cam0,cam1 or KITTI image_0/image_1 + calib.txt)",
+      path.string()));
+}
+
+}  // namespace vkvo::io

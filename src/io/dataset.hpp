@@ -1,0 +1,130 @@
+#pragma once
+// Stereo datasets on disk: a list of timestamped image pairs, the calibration and, when there is one, the
+// ground-truth trajectory. Images are only read when asked for (load_*), so opening a long sequence is cheap.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "io/calibration.hpp"
+
+namespace vkvo::io {
+
+enum class DatasetKind { euroc, kitti };
+const char* to_string(DatasetKind kind);
+
+struct StereoFrame {
+  std::size_t sequence_index = 0;  // index in the full sequence (before the frame range is applied)
+  std::int64_t timestamp_ns = 0;
+  double timestamp_s = 0;          // same instant in seconds (loses sub-microsecond digits for EuRoC epochs)
+  std::filesystem::path left;
+  std::filesystem::path right;
+};
+
+struct StereoImages {
+  cv::Mat left;   // CV_8UC1
+  cv::Mat right;  // CV_8UC1
+};
+
+// Which frames of the sequence to use: sequence indices first, first + stride, ... up to `last` (inclusive).
+struct FrameRange {
+  std::size_t first = 0;
+  std::optional<std::size_t> last;  // inclusive; nullopt = to the end
+  std::size_t stride = 1;
+};
+
+struct DatasetOptions {
+  FrameRange range;
+  // A `camera:` config section (see io::apply_camera_overrides) applied on top of the dataset's calibration;
+  // required for datasets that come without a calibration file.
+  YAML::Node camera_overrides;
+  // EuRoC: left/right images whose timestamps differ by more than this are not paired.
+  std::int64_t max_stereo_dt_ns = 1'000'000;
+};
+
+class StereoDataset {
+ public:
+  virtual ~StereoDataset() = default;
+  StereoDataset(const StereoDataset&) = delete;
+  StereoDataset& operator=(const StereoDataset&) = delete;
+
+  virtual DatasetKind kind() const = 0;
+  // Folder the dataset was opened from after normalisation (EuRoC: the `mav0` folder; KITTI: the sequence folder).
+  const std::filesystem::path& root() const { return root_; }
+  // A short name for logs and summaries: the sequence folder name (e.g. "MH_01_easy", "KITTI_sequence_2").
+  const std::string& name() const { return name_; }
+
+  std::size_t size() const { return frames_.size(); }
+  bool empty() const { return frames_.empty(); }
+  const StereoFrame& frame(std::size_t i) const;
+  const std::vector<StereoFrame>& frames() const { return frames_; }
+
+  // Both images of frame i as 8-bit grayscale. Throws std::runtime_error naming the file when it is missing,
+  // cannot be decoded, or its size disagrees with the calibration.
+  StereoImages load(std::size_t i) const;
+  cv::Mat load_left(std::size_t i) const;
+  cv::Mat load_right(std::size_t i) const;
+
+  const StereoCalibration& calibration() const { return calibration_; }
+
+  // The ground-truth file found next to the dataset, if any (EuRoC: state_groundtruth_estimate0/data.csv, or a
+  // single file in ../groundtruth/EuRoC_left_cam/; KITTI: poses.txt or ../../poses/<seq>.txt).
+  const std::optional<std::filesystem::path>& groundtruth_path() const { return groundtruth_path_; }
+  // KITTI: the times.txt the timestamps came from (ground truth readers need it too); nullopt otherwise.
+  const std::optional<std::filesystem::path>& times_path() const { return times_path_; }
+
+ protected:
+  StereoDataset() = default;
+  // Called by implementations once frames_ (full sequence) and calibration_ are filled: applies the overrides and
+  // the frame range, validates the calibration.
+  void finish(const DatasetOptions& options, const std::string& calibration_source);
+
+  std::filesystem::path root_;
+  std::string name_;
+  std::vector<StereoFrame> frames_;
+  StereoCalibration calibration_;
+  std::optional<std::filesystem::path> groundtruth_path_;
+  std::optional<std::filesystem::path> times_path_;
+
+ private:
+  cv::Mat load_image(const std::filesystem::path& file, const CameraCalibration& camera) const;
+};
+
+// EuRoC / ASL folder: accepts the `mav0` folder, the sequence folder that contains it, or a folder whose only
+// sequence child contains it (e.g. .../euroc_mh01_subset). Calibration from cam0/cam1 sensor.yaml; stereo
+// pairs from cam0/data.csv and cam1/data.csv matched by timestamp.
+class EurocDataset final : public StereoDataset {
+ public:
+  explicit EurocDataset(const std::filesystem::path& path, const DatasetOptions& options = {});
+  DatasetKind kind() const override { return DatasetKind::euroc; }
+  // The mav0 folder for a path, or nullopt when `path` is not an EuRoC dataset.
+  static std::optional<std::filesystem::path> find_root(const std::filesystem::path& path);
+};
+
+// KITTI odometry sequence folder: image_0/image_1 (or image_l/image_r), calib.txt with the rectified P0/P1
+// (labelled "P0:" or bare 12-number lines), times.txt when present (else 10 Hz nominal).
+class KittiDataset final : public StereoDataset {
+ public:
+  explicit KittiDataset(const std::filesystem::path& path, const DatasetOptions& options = {});
+  DatasetKind kind() const override { return DatasetKind::kitti; }
+  static std::optional<std::filesystem::path> find_root(const std::filesystem::path& path);
+  static constexpr double nominal_frame_period_s = 0.1;
+};
+
+// Detects the dataset kind from the folder layout and opens it. Throws std::runtime_error naming the path
+// when it is neither kind.
+std::unique_ptr<StereoDataset> open_dataset(const std::filesystem::path& path, const DatasetOptions& options = {});
+
+// Parsers exposed for tests and tools.
+// EuRoC cam sensor.yaml -> intrinsics, distortion, T_BS. Throws naming the file and the missing field.
+CameraCalibration read_euroc_camera_yaml(const std::filesystem::path& sensor_yaml);
+// KITTI calib.txt -> rectified stereo calibration (width/height left 0: taken from the images).
+StereoCalibration read_kitti_calib(const std::filesystem::path& calib_txt);
+
+}  // namespace vkvo::io

@@ -1,0 +1,182 @@
+// EuRoC / ASL folder reader: mav0/cam{0,1}/{data.csv, data/, sensor.yaml}.
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "io/dataset.hpp"
+#include "io/text_utils.hpp"
+#include "io/yaml_utils.hpp"
+
+namespace vkvo::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool is_mav0(const fs::path& dir) {
+  return fs::is_regular_file(dir / "cam0" / "data.csv") && fs::is_regular_file(dir / "cam1" / "data.csv");
+}
+
+struct CameraEntry {
+  std::int64_t timestamp_ns;
+  fs::path image;
+};
+
+// cam<i>/data.csv: "#timestamp [ns],filename", CRLF or LF lines.
+std::vector<CameraEntry> read_camera_csv(const fs::path& cam_dir) {
+  const fs::path csv = cam_dir / "data.csv";
+  std::vector<CameraEntry> entries;
+  for_each_data_line(csv, [&](const std::string& line, std::size_t line_number) {
+    const auto fields = split_fields(line, ',');
+    if (fields.size() < 2)
+      throw std::runtime_error(fmt::format("{}:{}: expected 'timestamp,filename'", csv.string(), line_number));
+    entries.push_back({parse_timestamp_ns(fields[0], csv, line_number), cam_dir / "data" / fields[1]});
+  });
+  std::sort(entries.begin(), entries.end(),
+            [](const CameraEntry& a, const CameraEntry& b) { return a.timestamp_ns < b.timestamp_ns; });
+  return entries;
+}
+
+std::vector<double> required_numbers(const YAML::Node& node, const fs::path& file, const std::string& field,
+                                     std::size_t count) {
+  if (!node.IsDefined() || node.IsNull())
+    throw std::runtime_error(fmt::format("{}: missing field '{}'", file.string(), field));
+  std::vector<double> values;
+  try {
+    values = node.as<std::vector<double>>();
+  } catch (const YAML::Exception&) {
+    throw std::runtime_error(fmt::format("{}: field '{}' is not a list of numbers", file.string(), field));
+  }
+  if (count != 0 && values.size() != count)
+    throw std::runtime_error(
+        fmt::format("{}: field '{}' has {} numbers, expected {}", file.string(), field, values.size(), count));
+  return values;
+}
+
+std::string required_string(const YAML::Node& root, const fs::path& file, const std::string& field) {
+  const YAML::Node node = root[field];
+  if (!node.IsDefined() || node.IsNull())
+    throw std::runtime_error(fmt::format("{}: missing field '{}'", file.string(), field));
+  return node.as<std::string>();
+}
+
+// ORB-SLAM3 style cam0 ground truth next to the sequence: <parent>/groundtruth/EuRoC_left_cam/MH01_GT.txt.
+std::optional<fs::path> find_left_cam_groundtruth(const fs::path& sequence_dir) {
+  const fs::path dir = sequence_dir.parent_path() / "groundtruth" / "EuRoC_left_cam";
+  if (!fs::is_directory(dir)) return std::nullopt;
+  std::string key;  // "MH_01_easy" -> "MH01", "V1_02_medium" -> "V102"
+  for (char c : sequence_dir.filename().string())
+    if (std::isalnum(static_cast<unsigned char>(c)) && key.size() < 4) key += c;
+  std::vector<fs::path> candidates;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().extension() == ".txt") candidates.push_back(entry.path());
+  for (const auto& candidate : candidates)
+    if (!key.empty() && candidate.filename().string().rfind(key, 0) == 0) return candidate;
+  if (candidates.size() == 1) return candidates.front();
+  return std::nullopt;
+}
+
+}  // namespace
+
+CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml) {
+  if (!fs::is_regular_file(sensor_yaml))
+    throw std::runtime_error(fmt::format("{}: calibration file is missing", sensor_yaml.string()));
+  const YAML::Node root = load_yaml_file(sensor_yaml);
+  if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a YAML map", sensor_yaml.string()));
+
+  CameraCalibration camera;
+  const auto model = root["camera_model"];
+  if (model.IsDefined() && model.as<std::string>() != "pinhole")
+    throw std::runtime_error(fmt::format("{}: camera_model '{}' is not supported (pinhole only)", sensor_yaml.string(),
+                                         model.as<std::string>()));
+  const auto resolution = required_numbers(root["resolution"], sensor_yaml, "resolution", 2);
+  camera.width = static_cast<int>(resolution[0]);
+  camera.height = static_cast<int>(resolution[1]);
+  const auto intrinsics = required_numbers(root["intrinsics"], sensor_yaml, "intrinsics", 4);
+  camera.fx = intrinsics[0];
+  camera.fy = intrinsics[1];
+  camera.cx = intrinsics[2];
+  camera.cy = intrinsics[3];
+  const std::string distortion = required_string(root, sensor_yaml, "distortion_model");
+  try {
+    camera.distortion = parse_distortion_model(distortion);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("{}: field 'distortion_model': {}", sensor_yaml.string(), e.what()));
+  }
+  camera.distortion_coeffs = required_numbers(root["distortion_coefficients"], sensor_yaml, "distortion_coefficients", 0);
+  const YAML::Node T_BS = root["T_BS"];
+  if (!T_BS.IsDefined() || !T_BS.IsMap())
+    throw std::runtime_error(fmt::format("{}: missing field 'T_BS'", sensor_yaml.string()));
+  try {
+    camera.T_body_camera = isometry_from_row_major(required_numbers(T_BS["data"], sensor_yaml, "T_BS.data", 16));
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("{}: field 'T_BS': {}", sensor_yaml.string(), e.what()));
+  }
+  return camera;
+}
+
+std::optional<fs::path> EurocDataset::find_root(const fs::path& path) {
+  if (!fs::is_directory(path)) return std::nullopt;
+  if (is_mav0(path)) return path;
+  if (is_mav0(path / "mav0")) return path / "mav0";
+  std::optional<fs::path> found;
+  for (const auto& entry : fs::directory_iterator(path)) {
+    if (!entry.is_directory() || !is_mav0(entry.path() / "mav0")) continue;
+    if (found) return std::nullopt;  // several sequences: ambiguous, the caller must pick one
+    found = entry.path() / "mav0";
+  }
+  return found;
+}
+
+EurocDataset::EurocDataset(const fs::path& path, const DatasetOptions& options) {
+  const auto mav0 = find_root(path);
+  if (!mav0)
+    throw std::runtime_error(fmt::format(
+        "{}: not an EuRoC dataset (no mav0/cam0/data.csv and mav0/cam1/data.csv, or several sequences)",
+        path.string()));
+  root_ = *mav0;
+  name_ = root_.filename() == "mav0" ? root_.parent_path().filename().string() : root_.filename().string();
+
+  calibration_.left = read_euroc_camera_yaml(root_ / "cam0" / "sensor.yaml");
+  calibration_.right = read_euroc_camera_yaml(root_ / "cam1" / "sensor.yaml");
+  calibration_.rectified = false;
+
+  const auto left = read_camera_csv(root_ / "cam0");
+  const auto right = read_camera_csv(root_ / "cam1");
+  // Pair by timestamp (both lists sorted): the VI-sensor triggers both cameras together, but a dropped frame on
+  // one side must not shift all later pairs.
+  std::size_t i = 0, j = 0, unpaired = 0;
+  while (i < left.size() && j < right.size()) {
+    const std::int64_t dt = left[i].timestamp_ns - right[j].timestamp_ns;
+    if (std::abs(dt) <= options.max_stereo_dt_ns) {
+      StereoFrame frame;
+      frame.sequence_index = frames_.size();
+      frame.timestamp_ns = left[i].timestamp_ns;
+      frame.timestamp_s = static_cast<double>(frame.timestamp_ns) * 1e-9;
+      frame.left = left[i].image;
+      frame.right = right[j].image;
+      frames_.push_back(std::move(frame));
+      ++i;
+      ++j;
+    } else if (dt < 0) {
+      ++i, ++unpaired;
+    } else {
+      ++j, ++unpaired;
+    }
+  }
+  unpaired += (left.size() - i) + (right.size() - j);
+  if (unpaired > 0) spdlog::warn("{}: {} camera images have no stereo partner and are skipped", root_.string(), unpaired);
+
+  if (fs::is_regular_file(root_ / "state_groundtruth_estimate0" / "data.csv"))
+    groundtruth_path_ = root_ / "state_groundtruth_estimate0" / "data.csv";
+  else
+    groundtruth_path_ = find_left_cam_groundtruth(root_.parent_path());
+
+  finish(options, (root_ / "cam{0,1}" / "sensor.yaml").string());
+}
+
+}  // namespace vkvo::io

@@ -1,0 +1,73 @@
+#include "io/yaml_utils.hpp"
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace vkvo::io {
+
+YAML::Node parse_yaml(const std::string& text, const std::string& origin) {
+  std::string body = text;
+  // yaml-cpp only knows `%YAML 1.x`; OpenCV writes `%YAML:1.0`. Blank the directive line (keeping line numbers).
+  if (body.rfind("%YAML", 0) == 0) {
+    const auto eol = body.find('\n');
+    body = eol == std::string::npos ? std::string() : body.substr(eol);
+  }
+  try {
+    return YAML::Load(body);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(fmt::format("{}: invalid YAML at line {}: {}", origin, e.mark.line + 1, e.msg));
+  }
+}
+
+YAML::Node load_yaml_file(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open YAML file", file.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_yaml(text.str(), file.string());
+}
+
+DistortionModel parse_distortion_model(const std::string& name) {
+  if (name == "none" || name == "pinhole") return DistortionModel::none;
+  if (name == "radtan" || name == "radial-tangential" || name == "plumb_bob") return DistortionModel::radtan;
+  if (name == "equidistant" || name == "equi" || name == "fisheye") return DistortionModel::equidistant;
+  throw std::invalid_argument(
+      fmt::format("unknown distortion model '{}' (expected none, radtan/radial-tangential or equidistant)", name));
+}
+
+const char* to_string(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::none: return "none";
+    case DistortionModel::radtan: return "radtan";
+    case DistortionModel::equidistant: return "equidistant";
+  }
+  return "unknown";
+}
+
+Eigen::Isometry3d isometry_from_row_major(const std::vector<double>& values) {
+  if (values.size() != 16 && values.size() != 12)
+    throw std::invalid_argument(fmt::format("expected 16 (4x4) or 12 (3x4) numbers, got {}", values.size()));
+  if (values.size() == 16 && (values[12] != 0 || values[13] != 0 || values[14] != 0 || values[15] != 1))
+    throw std::invalid_argument("last row of a 4x4 transform must be 0 0 0 1");
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) rotation(r, c) = values[r * 4 + c];
+    translation(r) = values[r * 4 + 3];
+  }
+  const double orthonormality_error = (rotation * rotation.transpose() - Eigen::Matrix3d::Identity()).norm();
+  if (orthonormality_error > 1e-3 || rotation.determinant() < 0)
+    throw std::invalid_argument(
+        fmt::format("rotation part is not a rotation (|R R^T - I| = {:.3g}, det = {:.4f})", orthonormality_error,
+                    rotation.determinant()));
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  // Files carry ~10 digits: project onto SO(3) so that later compositions stay rigid.
+  T.linear() = Eigen::Quaterniond(rotation).normalized().toRotationMatrix();
+  T.translation() = translation;
+  return T;
+}
+
+}  // namespace vkvo::io

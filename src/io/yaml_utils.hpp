@@ -1,0 +1,30 @@
+#pragma once
+// Small YAML helpers shared by the config loader and the dataset readers.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <yaml-cpp/yaml.h>
+
+#include "io/calibration.hpp"
+
+namespace vkvo::io {
+
+// Parses a YAML file. OpenCV-style files start with a `%YAML:1.0` directive that yaml-cpp rejects; that line is
+// dropped. Throws std::runtime_error naming the file (and the line of a syntax error).
+YAML::Node load_yaml_file(const std::filesystem::path& file);
+
+// Parses YAML text, dropping a leading `%YAML:1.0` directive; `origin` names the text in errors.
+YAML::Node parse_yaml(const std::string& text, const std::string& origin);
+
+// "none"/"pinhole", "radtan"/"radial-tangential"/"plumb_bob", "equidistant"/"equi"/"fisheye".
+// Throws std::invalid_argument listing the accepted names.
+DistortionModel parse_distortion_model(const std::string& name);
+const char* to_string(DistortionModel model);
+
+// A 4x4 row-major homogeneous matrix (16 numbers, or 12 for the top 3x4 rows) as a rigid transform. The rotation
+// part must be orthonormal to 1e-3 (it is re-orthonormalised); throws std::invalid_argument otherwise.
+Eigen::Isometry3d isometry_from_row_major(const std::vector<double>& values);
+
+}  // namespace vkvo::io

@@ -1,0 +1,95 @@
+// io::Config and the camera: section overrides.
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "common/test_support.hpp"
+#include "io/config.hpp"
+
+using namespace vkvo;
+
+namespace {
+template <typename Fn>
+std::string error_of(Fn&& fn) {
+  try {
+    fn();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "<no exception>";
+}
+}  // namespace
+
+TEST(Config, SectionsAndParamsWithDefaults) {
+  const auto config = io::Config::from_string(
+      "%YAML:1.0\nsuperpoint:\n  max_keypoints: 400\n  threshold: 0.004\nfeatures:\n  lines:\n    length: 7\n");
+  const YAML::Node sp = config.section("superpoint");
+  EXPECT_EQ(io::param<int>(sp, "max_keypoints", 1000), 400);
+  EXPECT_DOUBLE_EQ(io::param<double>(sp, "threshold", 0.1), 0.004);
+  EXPECT_EQ(io::param<int>(sp, "nms_radius", 4), 4);  // missing key -> default
+  EXPECT_EQ(io::param<int>(config.section("features.lines"), "length", 0), 7);
+  EXPECT_TRUE(config.has_section("features.lines"));
+  EXPECT_FALSE(config.has_section("superglue"));
+  const YAML::Node missing = config.section("superglue");  // missing section -> empty node, defaults apply
+  EXPECT_EQ(io::param<int>(missing, "layers", 18), 18);
+  EXPECT_FALSE(config.has_section("superglue"));  // reading did not insert it
+  int value = 3;
+  io::read_param(sp, "absent", value);
+  EXPECT_EQ(value, 3);
+}
+
+TEST(Config, WrongTypeNamesKeyAndLine) {
+  const auto config = io::Config::from_string("superpoint:\n  max_keypoints: many\n");
+  const std::string message = error_of([&] { io::param<int>(config.section("superpoint"), "max_keypoints", 1); });
+  EXPECT_NE(message.find("'max_keypoints'"), std::string::npos) << message;
+  EXPECT_NE(message.find("line 2"), std::string::npos) << message;
+  EXPECT_NE(message.find("integer"), std::string::npos) << message;
+}
+
+TEST(Config, FileErrorsNameTheFile) {
+  const auto dir = test::temp_dir("config");
+  EXPECT_NE(error_of([&] { io::Config::load(dir / "absent.yaml"); }).find("absent.yaml"), std::string::npos);
+  std::ofstream(dir / "bad.yaml") << "a: [1, 2\nb: 3\n";
+  const std::string message = error_of([&] { io::Config::load(dir / "bad.yaml"); });
+  EXPECT_NE(message.find("bad.yaml"), std::string::npos) << message;
+  EXPECT_NE(message.find("invalid YAML"), std::string::npos) << message;
+  std::ofstream(dir / "good.yaml") << "camera:\n  fx: 1\n";
+  EXPECT_TRUE(io::Config::load(dir / "good.yaml").has_section("camera"));
+}
+
+TEST(CameraOverrides, SharedAndPerCameraKeys) {
+  const YAML::Node camera = YAML::Load(
+      "width: 640\nheight: 480\nfx: 400\nfy: 401\ncx: 320\ncy: 240\nbaseline: 0.12\n"
+      "right:\n  cx: 321.5\n  distortion_model: radtan\n  distortion_coeffs: [0.1, -0.2, 0.001, 0.002]\n");
+  const auto calibration = io::apply_camera_overrides(camera, {});
+  EXPECT_EQ(calibration.left.width, 640);
+  EXPECT_DOUBLE_EQ(calibration.left.fy, 401);
+  EXPECT_DOUBLE_EQ(calibration.left.cx, 320);
+  EXPECT_DOUBLE_EQ(calibration.right.cx, 321.5);
+  EXPECT_EQ(calibration.right.distortion, io::DistortionModel::radtan);
+  EXPECT_EQ(calibration.left.distortion, io::DistortionModel::none);
+  EXPECT_TRUE(calibration.rectified);
+  EXPECT_DOUBLE_EQ(calibration.T_left_right().translation().x(), 0.12);
+  EXPECT_NO_THROW(io::validate_calibration(calibration, "test"));
+}
+
+TEST(CameraOverrides, TransformAndErrors) {
+  const YAML::Node camera = YAML::Load(
+      "left:\n  T_body_camera: [0, -1, 0, 0.1,  1, 0, 0, 0,  0, 0, 1, 0,  0, 0, 0, 1]\n");
+  const auto calibration = io::apply_camera_overrides(camera, {});
+  EXPECT_DOUBLE_EQ(calibration.left.T_body_camera(0, 1), -1.0);
+  EXPECT_DOUBLE_EQ(calibration.left.T_body_camera.translation().x(), 0.1);
+
+  EXPECT_NE(error_of([] { io::apply_camera_overrides(YAML::Load("left: {distortion_model: fancy}"), {}); })
+                .find("camera.left.distortion_model"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { io::apply_camera_overrides(YAML::Load("left: {T_body_camera: [2, 0, 0, 0]}"), {}); })
+                .find("camera.left.T_body_camera"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { io::apply_camera_overrides(YAML::Load("fx: wide"), {}); }).find("'fx'"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { io::validate_calibration({}, "mycalib"); }).find("mycalib"), std::string::npos);
+  io::StereoCalibration no_baseline = io::apply_camera_overrides(
+      YAML::Load("{width: 10, height: 10, fx: 5, fy: 5, cx: 5, cy: 5}"), {});
+  EXPECT_NE(error_of([&] { io::validate_calibration(no_baseline, "x"); }).find("baseline"), std::string::npos);
+}
