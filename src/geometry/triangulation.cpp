@@ -1,0 +1,118 @@
+#include "geometry/triangulation.hpp"
+
+#include <cmath>
+
+#include <Eigen/SVD>
+
+#include "geometry/yaml_param.hpp"
+
+namespace vkvo::geometry {
+
+TriangulationParams load_triangulation_params(const YAML::Node& section) {
+  TriangulationParams p;
+  read_optional(section, "max_y_diff", p.max_y_diff);
+  read_optional(section, "min_depth", p.min_depth);
+  read_optional(section, "max_depth", p.max_depth);
+  read_optional(section, "min_line_plane_angle_deg", p.min_line_plane_angle_deg);
+  return p;
+}
+
+std::optional<Eigen::Vector3d> triangulate_stereo_point(const StereoCamera& stereo, const Eigen::Vector2d& left,
+                                                        const Eigen::Vector2d& right, const TriangulationParams& params) {
+  if (std::abs(left.y() - right.y()) > params.max_y_diff) return std::nullopt;
+  const double disparity = left.x() - right.x();
+  if (!(disparity > 0)) return std::nullopt;
+  const double depth = stereo.camera.fx * stereo.baseline / disparity;
+  if (depth < params.min_depth || depth > params.max_depth) return std::nullopt;
+  return depth * stereo.camera.backproject(left);
+}
+
+std::optional<Eigen::Vector3d> triangulate_two_view(const PinholeCamera& camera, const Eigen::Isometry3d& T_world_c1,
+                                                    const Eigen::Vector2d& pixel1, const Eigen::Isometry3d& T_world_c2,
+                                                    const Eigen::Vector2d& pixel2) {
+  // DLT on normalised coordinates: x cross (P X) = 0 with P = [R | t] of world -> camera.
+  Eigen::Matrix4d A;
+  const Eigen::Isometry3d T[2] = {T_world_c1.inverse(), T_world_c2.inverse()};
+  const Eigen::Vector3d x[2] = {camera.backproject(pixel1), camera.backproject(pixel2)};
+  for (int i = 0; i < 2; ++i) {
+    const Eigen::Matrix<double, 3, 4> P = T[i].matrix().topRows<3>();
+    A.row(2 * i) = x[i].x() * P.row(2) - P.row(0);
+    A.row(2 * i + 1) = x[i].y() * P.row(2) - P.row(1);
+  }
+  const Eigen::JacobiSVD<Eigen::Matrix4d> svd(A, Eigen::ComputeFullV);
+  const Eigen::Vector4d X = svd.matrixV().col(3);
+  if (std::abs(X[3]) < 1e-12 * X.head<3>().norm()) return std::nullopt;  // point at infinity: parallel rays
+  const Eigen::Vector3d point = X.head<3>() / X[3];
+  for (const auto& Ti : T)
+    if ((Ti * point).z() <= 0) return std::nullopt;
+  return point;
+}
+
+const char* to_string(LineTriangulationMethod method) {
+  switch (method) {
+    case LineTriangulationMethod::planes: return "planes";
+    case LineTriangulationMethod::points: return "points";
+    case LineTriangulationMethod::failed: return "failed";
+  }
+  return "?";
+}
+
+namespace {
+
+// Back-projected plane of an observed segment in the world frame: a . X + d = 0, |a| = 1.
+Eigen::Vector4d world_plane(const PinholeCamera& camera, const LineObservation& obs) {
+  const Eigen::Vector3d a_camera = camera.K().transpose() * image_line(obs.segment);
+  const Eigen::Vector3d a = (obs.T_world_camera.linear() * a_camera).normalized();
+  Eigen::Vector4d plane;
+  plane << a, -a.dot(obs.T_world_camera.translation());
+  return plane;
+}
+
+// Depth along the viewing ray of a segment endpoint at which the ray passes closest to the line (negative: behind).
+bool endpoints_in_front(const PinholeCamera& camera, const PlueckerLine& L, const LineObservation& obs) {
+  const Eigen::Vector3d P0 = L.closest_point_to_origin(), d = L.direction();
+  const Eigen::Vector3d w = P0 - obs.T_world_camera.translation();
+  for (int e = 0; e < 2; ++e) {
+    const Eigen::Vector3d r = obs.T_world_camera.linear() * camera.backproject(obs.segment.segment<2>(2 * e));
+    // Closest approach of the ray t r to the line P0 + s d (relative to the camera centre).
+    const double rr = r.dot(r), rd = r.dot(d), den = rr - rd * rd;
+    if (den <= 1e-12 * rr) return false;
+    const double t = (r.dot(w) - rd * d.dot(w)) / den;
+    if (t <= 0) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::optional<PlueckerLine> triangulate_line_from_planes(const PinholeCamera& camera, const LineObservation& a,
+                                                         const LineObservation& b, double min_plane_angle_rad) {
+  const Eigen::Vector4d p1 = world_plane(camera, a), p2 = world_plane(camera, b);
+  const Eigen::Vector3d a1 = p1.head<3>(), a2 = p2.head<3>();
+  const Eigen::Vector3d v = a1.cross(a2);
+  if (v.norm() < std::sin(min_plane_angle_rad)) return std::nullopt;
+  // Points X on both planes satisfy a_i . X = -d_i, so n = X x (a1 x a2) = d1 a2 - d2 a1.
+  PlueckerLine L{p1[3] * a2 - p2[3] * a1, v};
+  L = L.normalized();
+  if (!endpoints_in_front(camera, L, a) || !endpoints_in_front(camera, L, b)) return std::nullopt;
+  return L;
+}
+
+LineTriangulation triangulate_line(const PinholeCamera& camera, const LineObservation& a, const LineObservation& b,
+                                   const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& points_on_line,
+                                   const TriangulationParams& params) {
+  const double min_angle = params.min_line_plane_angle_deg * M_PI / 180.0;
+  if (auto L = triangulate_line_from_planes(camera, a, b, min_angle)) return {*L, LineTriangulationMethod::planes};
+  if (points_on_line && (points_on_line->first - points_on_line->second).norm() > 1e-9)
+    return {PlueckerLine::from_points(points_on_line->first, points_on_line->second), LineTriangulationMethod::points};
+  return {};
+}
+
+LineTriangulation triangulate_stereo_line(
+    const StereoCamera& stereo, const Segment2d& left, const Segment2d& right,
+    const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& points_on_line, const TriangulationParams& params) {
+  return triangulate_line(stereo.camera, {Eigen::Isometry3d::Identity(), left}, {stereo.T_left_right(), right},
+                          points_on_line, params);
+}
+
+}  // namespace vkvo::geometry

@@ -1,0 +1,133 @@
+// Point and line triangulation from noiseless synthetic observations (exact recovery), gates, and the degenerate
+// line case falling back to two points.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "geometry/triangulation.hpp"
+#include "scene.hpp"
+
+namespace vkvo::geometry {
+namespace {
+
+TEST(Triangulation, StereoPointExactAndGated) {
+  const StereoCamera stereo = test::test_stereo_camera();
+  const TriangulationParams params;
+  std::mt19937 rng(11);
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d p = test::random_visible_point(rng, stereo.camera, Eigen::Isometry3d::Identity(), 0.5, 9.5);
+    const auto X = triangulate_stereo_point(stereo, stereo.camera.project(p), stereo.project_right(p), params);
+    ASSERT_TRUE(X.has_value());
+    EXPECT_LT((*X - p).norm(), 1e-9 * p.norm());
+  }
+  const Eigen::Vector3d p(0.3, -0.2, 4.0);
+  const Eigen::Vector2d l = stereo.camera.project(p), r = stereo.project_right(p);
+  EXPECT_FALSE(triangulate_stereo_point(stereo, l, r + Eigen::Vector2d(0, 2.5), params));  // |dy| > 2 px
+  EXPECT_TRUE(triangulate_stereo_point(stereo, l, r + Eigen::Vector2d(0, 1.9), params));
+  EXPECT_FALSE(triangulate_stereo_point(stereo, l, l, params));                             // zero disparity
+  const Eigen::Vector3d far(0.1, 0.1, 12.0), near(0.0, 0.0, 0.08);
+  EXPECT_FALSE(triangulate_stereo_point(stereo, stereo.camera.project(far), stereo.project_right(far), params));
+  EXPECT_FALSE(triangulate_stereo_point(stereo, stereo.camera.project(near), stereo.project_right(near), params));
+}
+
+TEST(Triangulation, TwoViewPointExact) {
+  const PinholeCamera cam = test::test_stereo_camera().camera;
+  std::mt19937 rng(12);
+  int checked = 0;
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Isometry3d T1 = test::random_pose(rng, 1.0, 0.3);
+    const Eigen::Isometry3d T2 = T1 * test::random_pose(rng, 0.5, 0.2);
+    const Eigen::Vector3d X = test::random_visible_point(rng, cam, T1, 1.0, 10.0);
+    if ((T2.inverse() * X).z() < 0.5) continue;
+    const auto Y = triangulate_two_view(cam, T1, cam.project(T1.inverse() * X), T2, cam.project(T2.inverse() * X));
+    ASSERT_TRUE(Y.has_value());
+    EXPECT_LT((*Y - X).norm(), 1e-7 * X.norm());
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+  // Pure rotation: rays meet only at the camera centre or at infinity; a point behind is rejected.
+  const Eigen::Vector3d X(0.2, 0.1, 3.0);
+  EXPECT_FALSE(triangulate_two_view(cam, Eigen::Isometry3d::Identity(), cam.project(X), Eigen::Isometry3d::Identity(),
+                                    cam.project(X)).has_value());
+}
+
+LineObservation observe(const PinholeCamera& cam, const Eigen::Isometry3d& T_world_camera, const Eigen::Vector3d& A,
+                        const Eigen::Vector3d& B) {
+  const Eigen::Vector2d a = cam.project(T_world_camera.inverse() * A), b = cam.project(T_world_camera.inverse() * B);
+  return {T_world_camera, Segment2d(a.x(), a.y(), b.x(), b.y())};
+}
+
+void expect_same_line(const PlueckerLine& a, const PlueckerLine& b, double tol) {
+  const double sign = a.v.dot(b.v) > 0 ? 1.0 : -1.0;
+  EXPECT_LT((a.normalized().v - sign * b.normalized().v).norm(), tol);
+  EXPECT_LT((a.normalized().n - sign * b.normalized().n).norm(), tol);
+}
+
+TEST(Triangulation, TwoViewLineFromPlanesExact) {
+  const PinholeCamera cam = test::test_stereo_camera().camera;
+  const TriangulationParams params;
+  std::mt19937 rng(13);
+  int checked = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::Isometry3d T1 = test::random_pose(rng, 1.0, 0.3);
+    const Eigen::Isometry3d T2 = T1 * test::random_pose(rng, 0.6, 0.2);
+    const Eigen::Vector3d A = test::random_visible_point(rng, cam, T1, 1.0, 8.0);
+    const Eigen::Vector3d B = test::random_visible_point(rng, cam, T1, 1.0, 8.0);
+    if ((T2.inverse() * A).z() < 0.5 || (T2.inverse() * B).z() < 0.5 || (A - B).norm() < 0.5) continue;
+    const auto result = triangulate_line(cam, observe(cam, T1, A, B), observe(cam, T2, A, B), std::nullopt, params);
+    if (result.method == LineTriangulationMethod::failed) continue;  // degenerate geometry, checked below
+    EXPECT_EQ(result.method, LineTriangulationMethod::planes);
+    expect_same_line(result.line, PlueckerLine::from_points(A, B), 1e-7);
+    ++checked;
+  }
+  EXPECT_GT(checked, 200);
+}
+
+TEST(Triangulation, StereoLineExact) {
+  const StereoCamera stereo = test::test_stereo_camera();
+  const TriangulationParams params;
+  std::mt19937 rng(14);
+  int checked = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::Vector3d A = test::random_visible_point(rng, stereo.camera, Eigen::Isometry3d::Identity(), 1.0, 6.0);
+    const Eigen::Vector3d B = test::random_visible_point(rng, stereo.camera, Eigen::Isometry3d::Identity(), 1.0, 6.0);
+    if (std::abs((A - B).normalized().x()) > 0.7) continue;  // nearly horizontal: degenerate for a stereo pair
+    const LineObservation l = observe(stereo.camera, Eigen::Isometry3d::Identity(), A, B);
+    const LineObservation r = observe(stereo.camera, stereo.T_left_right(), A, B);
+    const auto result = triangulate_stereo_line(stereo, l.segment, r.segment, std::nullopt, params);
+    if (result.method == LineTriangulationMethod::failed) continue;
+    expect_same_line(result.line, PlueckerLine::from_points(A, B), 1e-7);
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+// A horizontal line seen by a rectified stereo pair back-projects to the same plane in both cameras: the plane
+// method must refuse it and the two-point fallback must be used (and said so).
+TEST(Triangulation, DegenerateStereoLineFallsBackToPoints) {
+  const StereoCamera stereo = test::test_stereo_camera();
+  const TriangulationParams params;
+  const Eigen::Vector3d A(-0.8, 0.4, 4.0), B(0.9, 0.4, 4.0);
+  const LineObservation l = observe(stereo.camera, Eigen::Isometry3d::Identity(), A, B);
+  const LineObservation r = observe(stereo.camera, stereo.T_left_right(), A, B);
+  EXPECT_FALSE(triangulate_line_from_planes(stereo.camera, l, r, params.min_line_plane_angle_deg * M_PI / 180));
+  const auto none = triangulate_stereo_line(stereo, l.segment, r.segment, std::nullopt, params);
+  EXPECT_EQ(none.method, LineTriangulationMethod::failed);
+  const Eigen::Vector3d P1 = A + 0.25 * (B - A), P2 = A + 0.8 * (B - A);
+  const auto fallback = triangulate_stereo_line(stereo, l.segment, r.segment, std::make_pair(P1, P2), params);
+  EXPECT_EQ(fallback.method, LineTriangulationMethod::points);
+  EXPECT_STREQ(to_string(fallback.method), "points");
+  expect_same_line(fallback.line, PlueckerLine::from_points(A, B), 1e-12);
+}
+
+TEST(Triangulation, LoadParams) {
+  const YAML::Node node = YAML::Load("{max_y_diff: 3.5, max_depth: 40}");
+  const TriangulationParams p = load_triangulation_params(node);
+  EXPECT_EQ(p.max_y_diff, 3.5);
+  EXPECT_EQ(p.max_depth, 40.0);
+  EXPECT_EQ(p.min_depth, 0.1);
+  EXPECT_THROW(load_triangulation_params(YAML::Load("{min_depth: [1, 2]}")), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace vkvo::geometry
