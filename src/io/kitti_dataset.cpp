@@ -11,6 +11,7 @@
 
 #include "io/dataset.hpp"
 #include "io/text_utils.hpp"
+#include "io/trajectory.hpp"
 
 namespace vkvo::io {
 
@@ -31,14 +32,6 @@ std::optional<ImageFolders> image_folders(const fs::path& dir) {
 bool is_image_file(const fs::path& file) {
   const std::string ext = file.extension().string();
   return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".pgm" || ext == ".tif" || ext == ".tiff";
-}
-
-std::vector<double> read_times(const fs::path& times_txt) {
-  std::vector<double> times;
-  for_each_data_line(times_txt, [&](const std::string& line, std::size_t line_number) {
-    times.push_back(parse_double(line, times_txt, line_number));
-  });
-  return times;
 }
 
 }  // namespace
@@ -118,7 +111,7 @@ KittiDataset::KittiDataset(const fs::path& path, const DatasetOptions& options) 
   std::vector<double> times;
   if (fs::is_regular_file(root_ / "times.txt")) {
     times_path_ = root_ / "times.txt";
-    times = read_times(*times_path_);
+    times = read_kitti_times(*times_path_);
     if (times.size() < left_images.size())
       throw std::runtime_error(fmt::format("{}: {} timestamps for {} images", times_path_->string(), times.size(),
                                            left_images.size()));

@@ -1,0 +1,36 @@
+// Ground-truth readers on the shared files (label `data`).
+#include <gtest/gtest.h>
+
+#include "common/test_support.hpp"
+#include "io/trajectory.hpp"
+
+using namespace vkvo;
+
+TEST(GroundTruthData, EurocLeftCamGroundTruth) {
+  VKVO_REQUIRE_DATA(file, "datasets/euroc_mh01_subset/groundtruth/EuRoC_left_cam/MH01_GT.txt");
+  const auto gt = io::read_groundtruth(file);
+  EXPECT_EQ(gt.format, io::TrajectoryFormat::euroc_csv);
+  EXPECT_EQ(gt.frame, io::PoseFrame::camera);  // 8 columns: already the cam0 pose
+  EXPECT_FALSE(gt.body_to_camera_applied);
+  ASSERT_EQ(gt.poses.size(), 3638u);  // PROVENANCE.md
+  // First row: 1403636580863555584, 4.6650211767,-1.8472146877,0.7812067206, q = 0.4502123789 0.6912148472 ...
+  EXPECT_NEAR(gt.poses[0].t, 1403636580.863555584, 3e-7);
+  EXPECT_NEAR(gt.poses[0].pose.translation().x(), 4.6650211767, 1e-12);
+  EXPECT_NEAR(gt.poses[0].pose.translation().z(), 0.7812067206, 1e-12);
+  const Eigen::Quaterniond q(gt.poses[0].pose.rotation());
+  EXPECT_NEAR(std::abs(q.w()), 0.4502123789, 1e-8);
+}
+
+TEST(GroundTruthData, KittiPoses) {
+  VKVO_REQUIRE_DATA(file, "datasets/kitti_seq01_f000-050/KITTI_sequence_2/poses.txt");
+  const auto gt = io::read_groundtruth(file);
+  EXPECT_EQ(gt.format, io::TrajectoryFormat::kitti);
+  ASSERT_EQ(gt.poses.size(), 51u);
+  EXPECT_DOUBLE_EQ(gt.poses[50].t, 5.0);
+  // Line 2 of poses.txt: translation column (5.154656e-02, -2.424883e-02, 1.000725e+00).
+  EXPECT_TRUE(gt.poses[1].pose.translation().isApprox(Eigen::Vector3d(5.154656e-02, -2.424883e-02, 1.000725), 1e-12));
+  double path = 0;
+  for (std::size_t k = 1; k < gt.poses.size(); ++k)
+    path += (gt.poses[k].pose.translation() - gt.poses[k - 1].pose.translation()).norm();
+  EXPECT_NEAR(path, 51.8, 0.1);  // PROVENANCE.md: "a 51.8 m path"
+}

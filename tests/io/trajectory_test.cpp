@@ -1,0 +1,191 @@
+// Trajectory files (TUM, EuRoC CSV, KITTI), ground-truth frame handling, PLY and JSON writers.
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "common/test_support.hpp"
+#include "io/map_ply.hpp"
+#include "io/run_summary.hpp"
+#include "io/trajectory.hpp"
+
+namespace fs = std::filesystem;
+using namespace vkvo;
+
+namespace {
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void write_text(const fs::path& file, const std::string& text) {
+  fs::create_directories(file.parent_path());
+  std::ofstream(file) << text;
+}
+
+io::Trajectory random_trajectory(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-5, 5);
+  io::Trajectory trajectory;
+  for (int k = 0; k < n; ++k) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    trajectory.push_back({1403636584.5 + 0.05 * k, pose});
+  }
+  return trajectory;
+}
+
+template <typename Fn>
+std::string error_of(Fn&& fn) {
+  try {
+    fn();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "<no exception>";
+}
+
+}  // namespace
+
+TEST(TumTrajectory, RoundTripKeepsPosesTo1e9) {
+  const fs::path file = test::temp_dir("tum") / "traj.txt";
+  const auto original = random_trajectory(50, 1);
+  io::write_tum(file, original);
+  EXPECT_EQ(io::detect_trajectory_format(file), io::TrajectoryFormat::tum);
+  const auto loaded = io::read_tum(file);
+  ASSERT_EQ(loaded.size(), original.size());
+  for (std::size_t k = 0; k < loaded.size(); ++k) {
+    // 9 printed decimals: |dt| <= 5e-10 plus the double's own rounding at 1.4e9 s (2.4e-7).
+    EXPECT_NEAR(loaded[k].t, original[k].t, 3e-7);
+    EXPECT_LT((loaded[k].pose.translation() - original[k].pose.translation()).norm(), 1e-8);
+    EXPECT_LT((loaded[k].pose.linear() - original[k].pose.linear()).norm(), 1e-8);
+  }
+}
+
+TEST(TumTrajectory, WriterFlushesEveryLineAndWritesExactNanoseconds) {
+  const fs::path file = test::temp_dir("tum_flush") / "sub" / "traj.txt";
+  io::TumTrajectoryWriter writer(file);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(1, -2, 3.5);
+  writer.write_ns(1403636584763555584LL, pose);
+  // The writer is still open: the line must already be in the file.
+  EXPECT_EQ(read_text(file),
+            "1403636584.763555584 1.000000000 -2.000000000 3.500000000 0.000000000 0.000000000 0.000000000 "
+            "1.000000000\n");
+  writer.write(0.25, pose);
+  EXPECT_EQ(io::read_tum(file).size(), 2u);
+  EXPECT_EQ(writer.lines_written(), 2u);
+  {
+    io::TumTrajectoryWriter appender(file, /*append=*/true);
+    appender.write(0.5, pose);
+  }
+  EXPECT_EQ(io::read_tum(file).size(), 3u);
+}
+
+TEST(TumTrajectory, MalformedLineNamesFileAndLine) {
+  const fs::path file = test::temp_dir("tum_bad") / "traj.txt";
+  write_text(file, "# t x y z qx qy qz qw\n0 0 0 0 0 0 0 1\n0.1 0 0 zero 0 0 0 1\n");
+  const std::string message = error_of([&] { io::read_tum(file); });
+  EXPECT_NE(message.find(file.string() + ":3"), std::string::npos) << message;
+  write_text(file, "0 0 0 0 0 0 0 2\n");
+  EXPECT_NE(error_of([&] { io::read_tum(file); }).find("quaternion norm"), std::string::npos);
+}
+
+TEST(EurocCsv, ReadsBothColumnLayouts) {
+  const fs::path dir = test::temp_dir("euroc_csv");
+  // Rotation of 90 deg about z: q = (w, x, y, z) = (cos 45, 0, 0, sin 45).
+  const double c = std::sqrt(0.5);
+  write_text(dir / "gt8.txt", fmt::format("#timestamp [ns],px,py,pz,qw,qx,qy,qz\n"
+                                          "1403636580863555584.0000000000,1,2,3,{0},0,0,{0}\n",
+                                          c));
+  std::size_t columns = 0;
+  const auto poses = io::read_euroc_csv(dir / "gt8.txt", &columns);
+  EXPECT_EQ(columns, 8u);
+  ASSERT_EQ(poses.size(), 1u);
+  EXPECT_NEAR(poses[0].t, 1403636580.863555584, 3e-7);
+  EXPECT_TRUE(poses[0].pose.translation().isApprox(Eigen::Vector3d(1, 2, 3)));
+  EXPECT_TRUE((poses[0].pose.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY(), 1e-12));
+  EXPECT_EQ(io::detect_trajectory_format(dir / "gt8.txt"), io::TrajectoryFormat::euroc_csv);
+}
+
+TEST(GroundTruth, EurocBodyPosesAreConvertedWithTbs) {
+  // mav0/state_groundtruth_estimate0/data.csv (17 columns) + mav0/cam0/sensor.yaml with a known T_BS.
+  const fs::path mav0 = test::temp_dir("gt_body") / "mav0";
+  std::string csv = "#timestamp,p_x,p_y,p_z,q_w,q_x,q_y,q_z,v_x,v_y,v_z,bw_x,bw_y,bw_z,ba_x,ba_y,ba_z\n";
+  const double c = std::sqrt(0.5);
+  csv += fmt::format("1000000000,1,0,0,{0},0,0,{0},0,0,0,0,0,0,0,0,0\n", c);  // body yawed 90 deg at (1,0,0)
+  write_text(mav0 / "state_groundtruth_estimate0" / "data.csv", csv);
+  write_text(mav0 / "cam0" / "sensor.yaml",
+             "%YAML:1.0\nT_BS:\n  cols: 4\n  rows: 4\n  data: [1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0.1, 0, 0, 0, 1]\n"
+             "resolution: [752, 480]\ncamera_model: pinhole\nintrinsics: [1, 1, 1, 1]\n"
+             "distortion_model: radial-tangential\ndistortion_coefficients: [0, 0, 0, 0]\n");
+  const auto gt = io::read_groundtruth(mav0 / "state_groundtruth_estimate0" / "data.csv");
+  EXPECT_TRUE(gt.body_to_camera_applied);
+  EXPECT_EQ(gt.frame, io::PoseFrame::camera);
+  ASSERT_EQ(gt.poses.size(), 1u);
+  // The camera sits 0.5 m along body x, which the yaw turns into world +y; and 0.1 m up.
+  EXPECT_TRUE(gt.poses[0].pose.translation().isApprox(Eigen::Vector3d(1, 0.5, 0.1), 1e-12))
+      << gt.poses[0].pose.translation().transpose();
+
+  fs::remove(mav0 / "cam0" / "sensor.yaml");  // no T_BS: stays a body pose, said so
+  const auto body = io::read_groundtruth(mav0 / "state_groundtruth_estimate0" / "data.csv");
+  EXPECT_FALSE(body.body_to_camera_applied);
+  EXPECT_EQ(body.frame, io::PoseFrame::body);
+  EXPECT_TRUE(body.poses[0].pose.translation().isApprox(Eigen::Vector3d(1, 0, 0)));
+}
+
+TEST(KittiPoses, TimesFromFileOrNominalRate) {
+  const fs::path dir = test::temp_dir("kitti_poses");
+  write_text(dir / "poses.txt",
+             "1 0 0 0 0 1 0 0 0 0 1 0\n"
+             "1.000000e+00 0 0 1.5 0 1 0 -0.25 0 0 1 2\n");
+  EXPECT_EQ(io::detect_trajectory_format(dir / "poses.txt"), io::TrajectoryFormat::kitti);
+  auto gt = io::read_groundtruth(dir / "poses.txt");
+  ASSERT_EQ(gt.poses.size(), 2u);
+  EXPECT_DOUBLE_EQ(gt.poses[1].t, 0.1);
+  EXPECT_TRUE(gt.poses[1].pose.translation().isApprox(Eigen::Vector3d(1.5, -0.25, 2)));
+  write_text(dir / "times.txt", "0.000000e+00\n1.036000e-01\n");
+  gt = io::read_groundtruth(dir / "poses.txt");
+  EXPECT_DOUBLE_EQ(gt.poses[1].t, 0.1036);
+  write_text(dir / "poses.txt", "1 0 0 0 0 1 0 0 0 0 1\n");
+  EXPECT_NE(error_of([&] { io::read_kitti_poses(dir / "poses.txt"); }).find("expected 12 numbers"), std::string::npos);
+}
+
+TEST(MapPly, HeaderCountsAndEdgesReferenceLineEndpoints) {
+  const fs::path file = test::temp_dir("ply") / "map.ply";
+  io::MapGeometry map;
+  map.points = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+  map.lines = {{{0, 0, 2}, {1, 0, 2}}, {{0, 0, 3}, {0, 1, 3}}};
+  map.trajectory = {{0, 0, 0}, {0.1, 0, 0}, {0.2, 0, 0}};
+  io::write_map_ply(file, map);
+  const std::string text = read_text(file);
+  EXPECT_NE(text.find("element vertex 10\n"), std::string::npos);  // 3 points + 4 line ends + 3 path
+  EXPECT_NE(text.find("element edge 4\n"), std::string::npos);     // 2 lines + 2 path segments
+  std::istringstream in(text.substr(text.find("end_header\n") + 11));
+  std::vector<std::string> rows;
+  for (std::string row; std::getline(in, row);) rows.push_back(row);
+  ASSERT_EQ(rows.size(), 14u);
+  EXPECT_EQ(rows[5], "0.000000 0.000000 3.000000 255 40 40");  // second line's start vertex (index 5)
+  EXPECT_EQ(rows[11], "5 6 255 40 40");                           // second line's edge
+  EXPECT_EQ(rows[13], "8 9 40 220 40");                           // last path segment
+  EXPECT_FALSE(fs::exists(file.string() + ".tmp"));
+}
+
+TEST(RunSummary, JsonFileRoundTrip) {
+  const fs::path file = test::temp_dir("json") / "out" / "summary.json";
+  io::StereoCalibration calibration;
+  calibration.left.fx = 500;
+  calibration.right.T_body_camera.translation() = Eigen::Vector3d(0.2, 0, 0);
+  io::write_json_file(file, {{"calibration", io::to_json(calibration)}, {"frames", 12}});
+  const auto document = nlohmann::json::parse(read_text(file));
+  EXPECT_EQ(document["frames"], 12);
+  EXPECT_DOUBLE_EQ(document["calibration"]["left"]["fx"].get<double>(), 500.0);
+  EXPECT_DOUBLE_EQ(document["calibration"]["baseline_m"].get<double>(), 0.2);
+  EXPECT_DOUBLE_EQ(document["calibration"]["right"]["T_body_camera"][3].get<double>(), 0.2);
+}
