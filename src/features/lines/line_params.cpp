@@ -1,0 +1,121 @@
+#include "features/lines/line_params.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace vkvo::features {
+namespace {
+
+// Overwrites `value` with section[key] when the key is present; a value of the wrong type throws.
+template <typename T>
+void read_optional(const YAML::Node& section, const std::string& key, T& value, const std::string& context) {
+  if (!section || !section.IsMap()) return;
+  const YAML::Node node = section[key];
+  if (!node) return;
+  try {
+    value = node.as<T>();
+  } catch (const YAML::Exception&) {
+    throw std::runtime_error("config key '" + context + key + "': wrong type or value");
+  }
+}
+
+void require_map(const YAML::Node& node, const std::string& name) {
+  if (node && !node.IsMap() && !node.IsNull()) throw std::runtime_error("config key '" + name + "': expected a map");
+}
+
+MergeStage load_merge_stage(const YAML::Node& node, const std::string& context) {
+  require_map(node, context);
+  MergeStage stage;
+  read_optional(node, "max_angle", stage.merge.max_angle, context + ".");
+  read_optional(node, "max_midpoint_distance", stage.merge.max_midpoint_distance, context + ".");
+  read_optional(node, "max_endpoint_gap", stage.merge.max_endpoint_gap, context + ".");
+  read_optional(node, "min_length_after", stage.min_length_after, context + ".");
+  return stage;
+}
+
+}  // namespace
+
+LineDetectorParams load_line_detector_params(const YAML::Node& section) {
+  LineDetectorParams params;
+  require_map(section, "detector");
+  if (!section || !section.IsMap()) return params;
+  const std::string ctx = "detector.";
+
+  std::string method = params.method == LineDetectorMethod::kLsd ? "lsd" : "fld";
+  read_optional(section, "method", method, ctx);
+  if (method == "fld") {
+    params.method = LineDetectorMethod::kFastLineDetector;
+  } else if (method == "lsd") {
+    params.method = LineDetectorMethod::kLsd;
+  } else {
+    throw std::runtime_error("config key 'detector.method': expected 'fld' or 'lsd', got '" + method + "'");
+  }
+  read_optional(section, "scale", params.scale, ctx);
+  if (!(params.scale > 0.0f && params.scale <= 1.0f))
+    throw std::runtime_error("config key 'detector.scale': must lie in (0, 1]");
+  read_optional(section, "min_length", params.min_length, ctx);
+
+  if (const YAML::Node fld = section["fld"]) {
+    require_map(fld, ctx + "fld");
+    const std::string fctx = ctx + "fld.";
+    read_optional(fld, "length_threshold", params.fld.length_threshold, fctx);
+    read_optional(fld, "distance_threshold", params.fld.distance_threshold, fctx);
+    read_optional(fld, "canny_threshold1", params.fld.canny_threshold1, fctx);
+    read_optional(fld, "canny_threshold2", params.fld.canny_threshold2, fctx);
+    read_optional(fld, "canny_aperture", params.fld.canny_aperture, fctx);
+  }
+  if (const YAML::Node lsd = section["lsd"]) {
+    require_map(lsd, ctx + "lsd");
+    std::string refine = "standard";
+    read_optional(lsd, "refine", refine, ctx + "lsd.");
+    if (refine == "none") {
+      params.lsd.refine = LsdParams::Refine::kNone;
+    } else if (refine == "standard") {
+      params.lsd.refine = LsdParams::Refine::kStandard;
+    } else if (refine == "advanced") {
+      params.lsd.refine = LsdParams::Refine::kAdvanced;
+    } else {
+      throw std::runtime_error("config key 'detector.lsd.refine': expected none, standard or advanced");
+    }
+  }
+  if (const YAML::Node stages = section["merge_stages"]) {
+    if (!stages.IsSequence()) throw std::runtime_error("config key 'detector.merge_stages': expected a list");
+    params.merge_stages.clear();
+    for (size_t i = 0; i < stages.size(); ++i)
+      params.merge_stages.push_back(load_merge_stage(stages[i], ctx + "merge_stages[" + std::to_string(i) + "]"));
+  }
+  return params;
+}
+
+AssociationParams load_association_params(const YAML::Node& section) {
+  AssociationParams params;
+  require_map(section, "association");
+  const std::string ctx = "association.";
+  read_optional(section, "max_distance", params.max_distance, ctx);
+  read_optional(section, "extent_margin", params.extent_margin, ctx);
+  read_optional(section, "require_both_extents", params.require_both_extents, ctx);
+  read_optional(section, "grid_cell_size", params.grid_cell_size, ctx);
+  if (!(params.grid_cell_size > 0.0f))
+    throw std::runtime_error("config key 'association.grid_cell_size': must be positive");
+  return params;
+}
+
+LineMatchParams load_line_match_params(const YAML::Node& section) {
+  LineMatchParams params;
+  require_map(section, "matching");
+  read_optional(section, "score_threshold", params.score_threshold, "matching.");
+  read_optional(section, "shared_threshold", params.shared_threshold, "matching.");
+  return params;
+}
+
+LinePipelineParams load_line_pipeline_params(const YAML::Node& section) {
+  LinePipelineParams params;
+  require_map(section, "lines");
+  if (!section || !section.IsMap()) return params;
+  params.detector = load_line_detector_params(section["detector"]);
+  params.association = load_association_params(section["association"]);
+  params.matching = load_line_match_params(section["matching"]);
+  return params;
+}
+
+}  // namespace vkvo::features

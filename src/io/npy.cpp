@@ -1,0 +1,210 @@
+#include "io/npy.hpp"
+
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace vkvo::io {
+namespace {
+
+constexpr char kMagic[] = "\x93NUMPY";
+constexpr size_t kMagicSize = 6;
+
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& problem) {
+  throw std::runtime_error("npy file " + path.string() + ": " + problem);
+}
+
+size_t dtype_item_size(const std::string& dtype) {
+  if (dtype == "<f4" || dtype == "<i4" || dtype == "<u4") return 4;
+  if (dtype == "<f8" || dtype == "<i8" || dtype == "<u8") return 8;
+  if (dtype == "<i2" || dtype == "<u2" || dtype == "<f2") return 2;
+  if (dtype == "|u1" || dtype == "|i1" || dtype == "|b1") return 1;
+  return 0;  // unsupported
+}
+
+// Returns the text after `'key':` in the header dict (leading spaces skipped), or fails.
+std::string value_after_key(const std::string& header, const std::string& key, const std::filesystem::path& path) {
+  const std::string quoted = "'" + key + "'";
+  size_t pos = header.find(quoted);
+  if (pos == std::string::npos) fail(path, "header lacks key " + quoted);
+  pos = header.find(':', pos + quoted.size());
+  if (pos == std::string::npos) fail(path, "header key " + quoted + " has no value");
+  ++pos;
+  while (pos < header.size() && header[pos] == ' ') ++pos;
+  return header.substr(pos);
+}
+
+std::string parse_descr(const std::string& header, const std::filesystem::path& path) {
+  const std::string rest = value_after_key(header, "descr", path);
+  if (rest.empty() || rest[0] != '\'') fail(path, "descr is not a quoted string");
+  const size_t end = rest.find('\'', 1);
+  if (end == std::string::npos) fail(path, "unterminated descr string");
+  return rest.substr(1, end - 1);
+}
+
+bool parse_fortran_order(const std::string& header, const std::filesystem::path& path) {
+  const std::string rest = value_after_key(header, "fortran_order", path);
+  if (rest.rfind("False", 0) == 0) return false;
+  if (rest.rfind("True", 0) == 0) return true;
+  fail(path, "fortran_order is neither True nor False");
+}
+
+std::vector<size_t> parse_shape(const std::string& header, const std::filesystem::path& path) {
+  const std::string rest = value_after_key(header, "shape", path);
+  if (rest.empty() || rest[0] != '(') fail(path, "shape is not a tuple");
+  const size_t end = rest.find(')');
+  if (end == std::string::npos) fail(path, "unterminated shape tuple");
+  std::vector<size_t> shape;
+  std::stringstream tuple(rest.substr(1, end - 1));
+  std::string item;
+  while (std::getline(tuple, item, ',')) {
+    const size_t first = item.find_first_not_of(' ');
+    if (first == std::string::npos) continue;  // trailing comma of a 1-tuple
+    const std::string digits = item.substr(first, item.find_last_not_of(' ') - first + 1);
+    size_t used = 0;
+    unsigned long long value = 0;
+    try {
+      value = std::stoull(digits, &used);
+    } catch (const std::exception&) {
+      fail(path, "shape entry '" + digits + "' is not a number");
+    }
+    if (used != digits.size()) fail(path, "shape entry '" + digits + "' is not a number");
+    shape.push_back(static_cast<size_t>(value));
+  }
+  return shape;
+}
+
+template <typename T>
+T load_element(const std::byte* bytes) {
+  T value;
+  std::memcpy(&value, bytes, sizeof(T));  // x86/ARM hosts are little-endian like the '<' dtypes we accept
+  return value;
+}
+
+void write_npy_bytes(const std::filesystem::path& path, const std::vector<size_t>& shape, const std::string& dtype,
+                     const void* values, size_t item_size) {
+  std::string shape_text = "(";
+  size_t count = 1;
+  for (size_t i = 0; i < shape.size(); ++i) {
+    shape_text += std::to_string(shape[i]) + (shape.size() == 1 ? "," : (i + 1 < shape.size() ? ", " : ""));
+    count *= shape[i];
+  }
+  shape_text += ")";
+  std::string header = "{'descr': '" + dtype + "', 'fortran_order': False, 'shape': " + shape_text + ", }";
+  // Pad with spaces and a final newline so that magic + version + length + header is a multiple of 64 bytes.
+  const size_t preamble = kMagicSize + 2 + 2;
+  const size_t total = ((preamble + header.size() + 1 + 63) / 64) * 64;
+  header.append(total - preamble - header.size() - 1, ' ');
+  header.push_back('\n');
+  if (header.size() > std::numeric_limits<uint16_t>::max()) fail(path, "header too long for format 1.0");
+
+  std::ofstream out(path, std::ios::binary);
+  if (!out) fail(path, "cannot open for writing");
+  const uint16_t header_length = static_cast<uint16_t>(header.size());
+  const char version[2] = {1, 0};
+  const char length_bytes[2] = {static_cast<char>(header_length & 0xff), static_cast<char>(header_length >> 8)};
+  out.write(kMagic, kMagicSize);
+  out.write(version, 2);
+  out.write(length_bytes, 2);
+  out.write(header.data(), static_cast<std::streamsize>(header.size()));
+  if (count > 0) out.write(static_cast<const char*>(values), static_cast<std::streamsize>(count * item_size));
+  if (!out) fail(path, "write failed");
+}
+
+}  // namespace
+
+size_t NpyArray::element_count() const {
+  size_t count = 1;
+  for (size_t dim : shape) count *= dim;
+  return count;
+}
+
+size_t NpyArray::item_size() const { return dtype_item_size(dtype); }
+
+std::vector<float> NpyArray::to_floats() const {
+  const size_t n = element_count();
+  std::vector<float> out(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (dtype == "<f4") {
+      out[i] = load_element<float>(data.data() + 4 * i);
+    } else if (dtype == "<f8") {
+      out[i] = static_cast<float>(load_element<double>(data.data() + 8 * i));
+    } else if (dtype == "<i4") {
+      out[i] = static_cast<float>(load_element<int32_t>(data.data() + 4 * i));
+    } else {
+      throw std::runtime_error("npy array of dtype " + dtype + " cannot be read as float32");
+    }
+  }
+  return out;
+}
+
+std::vector<int32_t> NpyArray::to_int32s() const {
+  const size_t n = element_count();
+  std::vector<int32_t> out(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (dtype == "<i4") {
+      out[i] = load_element<int32_t>(data.data() + 4 * i);
+    } else if (dtype == "<i8") {
+      const int64_t value = load_element<int64_t>(data.data() + 8 * i);
+      if (value < std::numeric_limits<int32_t>::min() || value > std::numeric_limits<int32_t>::max())
+        throw std::runtime_error("npy int64 value " + std::to_string(value) + " does not fit int32");
+      out[i] = static_cast<int32_t>(value);
+    } else {
+      throw std::runtime_error("npy array of dtype " + dtype + " cannot be read as int32");
+    }
+  }
+  return out;
+}
+
+NpyArray read_npy(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open for reading");
+  char magic[kMagicSize];
+  in.read(magic, kMagicSize);
+  if (!in || std::memcmp(magic, kMagic, kMagicSize) != 0) fail(path, "not a .npy file (bad magic)");
+  unsigned char version[2];
+  in.read(reinterpret_cast<char*>(version), 2);
+  if (!in) fail(path, "truncated before the version");
+  size_t header_length = 0;
+  if (version[0] == 1) {
+    unsigned char bytes[2];
+    in.read(reinterpret_cast<char*>(bytes), 2);
+    header_length = bytes[0] | (size_t{bytes[1]} << 8);
+  } else if (version[0] == 2 || version[0] == 3) {
+    unsigned char bytes[4];
+    in.read(reinterpret_cast<char*>(bytes), 4);
+    header_length = bytes[0] | (size_t{bytes[1]} << 8) | (size_t{bytes[2]} << 16) | (size_t{bytes[3]} << 24);
+  } else {
+    fail(path, "unsupported format version " + std::to_string(version[0]));
+  }
+  if (!in) fail(path, "truncated header length");
+  std::string header(header_length, '\0');
+  in.read(header.data(), static_cast<std::streamsize>(header_length));
+  if (!in) fail(path, "truncated header");
+
+  NpyArray array;
+  array.dtype = parse_descr(header, path);
+  if (parse_fortran_order(header, path)) fail(path, "Fortran-order arrays are not supported");
+  array.shape = parse_shape(header, path);
+  const size_t item = array.item_size();
+  if (item == 0) fail(path, "unsupported dtype '" + array.dtype + "' (little-endian numeric types only)");
+
+  const size_t bytes = array.element_count() * item;
+  array.data.resize(bytes);
+  in.read(reinterpret_cast<char*>(array.data.data()), static_cast<std::streamsize>(bytes));
+  if (static_cast<size_t>(in.gcount()) != bytes)
+    fail(path, "data truncated: expected " + std::to_string(bytes) + " bytes, got " + std::to_string(in.gcount()));
+  return array;
+}
+
+void write_npy(const std::filesystem::path& path, const std::vector<size_t>& shape, const float* values) {
+  write_npy_bytes(path, shape, "<f4", values, sizeof(float));
+}
+
+void write_npy(const std::filesystem::path& path, const std::vector<size_t>& shape, const int32_t* values) {
+  write_npy_bytes(path, shape, "<i4", values, sizeof(int32_t));
+}
+
+}  // namespace vkvo::io
