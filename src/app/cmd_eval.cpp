@@ -1,0 +1,119 @@
+// `vkvo eval`: compares an estimated trajectory with ground truth (ATE, RPE, drift), optional plot and JSON.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "app/command.hpp"
+#include "eval/evaluate.hpp"
+#include "eval/plot.hpp"
+#include "io/run_summary.hpp"
+#include "io/trajectory.hpp"
+
+namespace {
+
+struct EvalCommandOptions {
+  std::string estimate;
+  std::string groundtruth;
+  std::string align = "se3";
+  double max_dt = 0.02;
+  std::string plot;
+  std::string json;
+  std::string gt_frame = "auto";
+  std::string body_to_camera;
+  std::string kitti_times;
+  std::vector<double> rpe_lengths;
+  std::size_t rpe_step = 1;
+};
+
+vkvo::io::PoseFrame parse_frame(const std::string& name) {
+  if (name == "auto") return vkvo::io::PoseFrame::automatic;
+  if (name == "body") return vkvo::io::PoseFrame::body;
+  if (name == "camera") return vkvo::io::PoseFrame::camera;
+  throw std::runtime_error(fmt::format("--gt-frame: unknown frame '{}' (auto, body or camera)", name));
+}
+
+int run_eval(const EvalCommandOptions& opts) {
+  using namespace vkvo;
+  io::GroundTruthOptions gt_options;
+  gt_options.frame = parse_frame(opts.gt_frame);
+  if (!opts.body_to_camera.empty()) {
+    gt_options.sensor_yaml = opts.body_to_camera;
+    if (gt_options.frame == io::PoseFrame::automatic) gt_options.frame = io::PoseFrame::body;
+  }
+  if (!opts.kitti_times.empty()) gt_options.kitti_times = opts.kitti_times;
+  const io::GroundTruth gt = io::read_groundtruth(opts.groundtruth, gt_options);
+
+  std::vector<double> estimate_times;  // a KITTI-format estimate shares the ground truth's clock
+  if (!opts.kitti_times.empty()) estimate_times = io::read_kitti_times(opts.kitti_times);
+  const io::Trajectory estimate = io::read_trajectory(opts.estimate, io::TrajectoryFormat::automatic, estimate_times);
+
+  eval::EvalOptions options;
+  options.alignment = eval::parse_alignment_mode(opts.align);
+  options.max_dt_s = opts.max_dt;
+  options.rpe.lengths_m = opts.rpe_lengths;
+  options.rpe.step = opts.rpe_step;
+  const eval::EvaluationResult result = eval::evaluate(estimate, gt.poses, options);
+
+  fmt::print("estimate:     {}\nground truth: {} ({}; {} frame)\n\n", opts.estimate, opts.groundtruth, gt.note,
+             gt.frame == io::PoseFrame::body ? "body" : "camera");
+  fmt::print("{}", eval::format_table(result));
+
+  if (!opts.plot.empty()) {
+    eval::PlotOptions plot;
+    plot.title = fmt::format("{}  ATE {:.3f} m ({} aligned)", std::filesystem::path(opts.estimate).filename().string(),
+                             result.ate.translation_m.rmse, eval::to_string(options.alignment));
+    eval::write_trajectory_plot(opts.plot, result.aligned_estimate_positions, result.groundtruth_positions, plot);
+    spdlog::info("plot written to {}", opts.plot);
+  }
+  if (!opts.json.empty()) {
+    nlohmann::json document = eval::to_json(result);
+    document["estimate"] = opts.estimate;
+    document["groundtruth"] = {{"path", opts.groundtruth},
+                               {"format", io::to_string(gt.format)},
+                               {"frame", gt.frame == io::PoseFrame::body ? "body" : "camera"},
+                               {"body_to_camera_applied", gt.body_to_camera_applied},
+                               {"note", gt.note}};
+    io::write_json_file(opts.json, document);
+    spdlog::info("report written to {}", opts.json);
+  }
+  return 0;
+}
+
+vkvo::app::CommandRegistration registration{
+    {"eval", "compare a trajectory with ground truth: ATE, RPE, drift, plot",
+     [](CLI::App& sub) {
+       auto opts = std::make_shared<EvalCommandOptions>();
+       sub.add_option("--estimate", opts->estimate, "estimated trajectory (TUM, EuRoC CSV or KITTI poses)")
+           ->required()
+           ->check(CLI::ExistingFile);
+       sub.add_option("--groundtruth", opts->groundtruth,
+                      "ground truth: TUM, EuRoC CSV (state_groundtruth_estimate0 or EuRoC_left_cam) or KITTI poses")
+           ->required()
+           ->check(CLI::ExistingFile);
+       sub.add_option("--align", opts->align, "alignment before measuring")
+           ->check(CLI::IsMember({"none", "se3", "sim3"}))
+           ->capture_default_str();
+       sub.add_option("--max-dt", opts->max_dt, "association tolerance in seconds")->capture_default_str();
+       sub.add_option("--plot", opts->plot, "write a top-view PNG of both trajectories");
+       sub.add_option("--json", opts->json, "write the report as JSON");
+       sub.add_option("--gt-frame", opts->gt_frame,
+                      "frame of the ground-truth poses: auto (17-column EuRoC CSV = body), body or camera")
+           ->check(CLI::IsMember({"auto", "body", "camera"}))
+           ->capture_default_str();
+       sub.add_option("--body-to-camera", opts->body_to_camera,
+                      "cam0 sensor.yaml whose T_BS converts body ground truth to the camera (default: "
+                      "<gt dir>/../cam0/sensor.yaml when present)")
+           ->check(CLI::ExistingFile);
+       sub.add_option("--kitti-times", opts->kitti_times, "KITTI times.txt for poses files (default: found or 10 Hz)")
+           ->check(CLI::ExistingFile);
+       sub.add_option("--rpe-lengths", opts->rpe_lengths,
+                      "RPE segment lengths in metres (default: 10,20,..,50 % of the path length)");
+       sub.add_option("--rpe-step", opts->rpe_step, "start an RPE segment every N poses")->capture_default_str();
+       return std::function<int()>([opts] { return run_eval(*opts); });
+     }}};
+
+}  // namespace
