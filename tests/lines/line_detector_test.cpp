@@ -220,11 +220,12 @@ matching: {score_threshold: 0.7, shared_threshold: 2}
     }
     return std::string("no error");
   };
-  EXPECT_NE(message_of("detector: {scale: fast}").find("detector.scale"), std::string::npos);
+  EXPECT_NE(message_of("detector: {scale: fast}").find("'scale'"), std::string::npos);
+  EXPECT_NE(message_of("detector: {scale: 2.0}").find("detector.scale"), std::string::npos);
   EXPECT_NE(message_of("detector: {method: hough}").find("detector.method"), std::string::npos);
-  EXPECT_NE(message_of("matching: {shared_threshold: [1]}").find("matching.shared_threshold"), std::string::npos);
-  EXPECT_NE(message_of("detector: {merge_stages: [{max_angle: x}]}").find("merge_stages[0].max_angle"),
-            std::string::npos);
+  EXPECT_NE(message_of("matching: {shared_threshold: [1]}").find("'shared_threshold'"), std::string::npos);
+  EXPECT_NE(message_of("detector: {merge_stages: [{max_angle: x}]}").find("'max_angle'"), std::string::npos);
+  EXPECT_NE(message_of("detector: {merge_stages: {max_angle: 1}}").find("merge_stages"), std::string::npos);
 }
 
 }  // namespace

@@ -75,7 +75,7 @@ TEST(PointLineAssociation, EmptyInputs) {
 TEST(PointLineAssociation, GridEqualsBruteForceOnRandomLayouts) {
   std::mt19937 rng(42);
   std::uniform_real_distribution<float> ux(0, 752), uy(0, 480), ut(-0.1f, 1.1f), off(-4, 4), len(5, 400), ang(0, 6.3f);
-  for (int trial = 0; trial < 20; ++trial) {
+  for (int trial = 0; trial < 8; ++trial) {
     std::vector<LineSegment> lines;
     for (int l = 0; l < 300; ++l) {
       const Eigen::Vector2f p0(ux(rng), uy(rng));

@@ -3,21 +3,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "io/config.hpp"
+
 namespace vkvo::features {
 namespace {
-
-// Overwrites `value` with section[key] when the key is present; a value of the wrong type throws.
-template <typename T>
-void read_optional(const YAML::Node& section, const std::string& key, T& value, const std::string& context) {
-  if (!section || !section.IsMap()) return;
-  const YAML::Node node = section[key];
-  if (!node) return;
-  try {
-    value = node.as<T>();
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error("config key '" + context + key + "': wrong type or value");
-  }
-}
 
 void require_map(const YAML::Node& node, const std::string& name) {
   if (node && !node.IsMap() && !node.IsNull()) throw std::runtime_error("config key '" + name + "': expected a map");
@@ -26,10 +15,10 @@ void require_map(const YAML::Node& node, const std::string& name) {
 MergeStage load_merge_stage(const YAML::Node& node, const std::string& context) {
   require_map(node, context);
   MergeStage stage;
-  read_optional(node, "max_angle", stage.merge.max_angle, context + ".");
-  read_optional(node, "max_midpoint_distance", stage.merge.max_midpoint_distance, context + ".");
-  read_optional(node, "max_endpoint_gap", stage.merge.max_endpoint_gap, context + ".");
-  read_optional(node, "min_length_after", stage.min_length_after, context + ".");
+  io::read_param(node, "max_angle", stage.merge.max_angle);
+  io::read_param(node, "max_midpoint_distance", stage.merge.max_midpoint_distance);
+  io::read_param(node, "max_endpoint_gap", stage.merge.max_endpoint_gap);
+  io::read_param(node, "min_length_after", stage.min_length_after);
   return stage;
 }
 
@@ -42,7 +31,7 @@ LineDetectorParams load_line_detector_params(const YAML::Node& section) {
   const std::string ctx = "detector.";
 
   std::string method = params.method == LineDetectorMethod::kLsd ? "lsd" : "fld";
-  read_optional(section, "method", method, ctx);
+  io::read_param(section, "method", method);
   if (method == "fld") {
     params.method = LineDetectorMethod::kFastLineDetector;
   } else if (method == "lsd") {
@@ -50,24 +39,23 @@ LineDetectorParams load_line_detector_params(const YAML::Node& section) {
   } else {
     throw std::runtime_error("config key 'detector.method': expected 'fld' or 'lsd', got '" + method + "'");
   }
-  read_optional(section, "scale", params.scale, ctx);
+  io::read_param(section, "scale", params.scale);
   if (!(params.scale > 0.0f && params.scale <= 1.0f))
     throw std::runtime_error("config key 'detector.scale': must lie in (0, 1]");
-  read_optional(section, "min_length", params.min_length, ctx);
+  io::read_param(section, "min_length", params.min_length);
 
   if (const YAML::Node fld = section["fld"]) {
     require_map(fld, ctx + "fld");
-    const std::string fctx = ctx + "fld.";
-    read_optional(fld, "length_threshold", params.fld.length_threshold, fctx);
-    read_optional(fld, "distance_threshold", params.fld.distance_threshold, fctx);
-    read_optional(fld, "canny_threshold1", params.fld.canny_threshold1, fctx);
-    read_optional(fld, "canny_threshold2", params.fld.canny_threshold2, fctx);
-    read_optional(fld, "canny_aperture", params.fld.canny_aperture, fctx);
+    io::read_param(fld, "length_threshold", params.fld.length_threshold);
+    io::read_param(fld, "distance_threshold", params.fld.distance_threshold);
+    io::read_param(fld, "canny_threshold1", params.fld.canny_threshold1);
+    io::read_param(fld, "canny_threshold2", params.fld.canny_threshold2);
+    io::read_param(fld, "canny_aperture", params.fld.canny_aperture);
   }
   if (const YAML::Node lsd = section["lsd"]) {
     require_map(lsd, ctx + "lsd");
     std::string refine = "standard";
-    read_optional(lsd, "refine", refine, ctx + "lsd.");
+    io::read_param(lsd, "refine", refine);
     if (refine == "none") {
       params.lsd.refine = LsdParams::Refine::kNone;
     } else if (refine == "standard") {
@@ -90,11 +78,10 @@ LineDetectorParams load_line_detector_params(const YAML::Node& section) {
 AssociationParams load_association_params(const YAML::Node& section) {
   AssociationParams params;
   require_map(section, "association");
-  const std::string ctx = "association.";
-  read_optional(section, "max_distance", params.max_distance, ctx);
-  read_optional(section, "extent_margin", params.extent_margin, ctx);
-  read_optional(section, "require_both_extents", params.require_both_extents, ctx);
-  read_optional(section, "grid_cell_size", params.grid_cell_size, ctx);
+  io::read_param(section, "max_distance", params.max_distance);
+  io::read_param(section, "extent_margin", params.extent_margin);
+  io::read_param(section, "require_both_extents", params.require_both_extents);
+  io::read_param(section, "grid_cell_size", params.grid_cell_size);
   if (!(params.grid_cell_size > 0.0f))
     throw std::runtime_error("config key 'association.grid_cell_size': must be positive");
   return params;
@@ -103,8 +90,8 @@ AssociationParams load_association_params(const YAML::Node& section) {
 LineMatchParams load_line_match_params(const YAML::Node& section) {
   LineMatchParams params;
   require_map(section, "matching");
-  read_optional(section, "score_threshold", params.score_threshold, "matching.");
-  read_optional(section, "shared_threshold", params.shared_threshold, "matching.");
+  io::read_param(section, "score_threshold", params.score_threshold);
+  io::read_param(section, "shared_threshold", params.shared_threshold);
   return params;
 }
 

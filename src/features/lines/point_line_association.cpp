@@ -46,6 +46,30 @@ struct PointGrid {
   }
 };
 
+// A segment's supporting line and its extent grown by the margin, computed once per line.
+struct PreparedSegment {
+  Eigen::Vector3f abc = Eigen::Vector3f::Zero();
+  float x_min = 0, x_max = 0, y_min = 0, y_max = 0;
+  bool valid = false;  // false for a degenerate (zero-length) segment: no supporting line
+
+  PreparedSegment(const LineSegment& line, float margin) {
+    valid = line.length() > 0.0f;
+    if (!valid) return;
+    abc = line.coefficients();
+    x_min = std::min(line.p0.x(), line.p1.x()) - margin;
+    x_max = std::max(line.p0.x(), line.p1.x()) + margin;
+    y_min = std::min(line.p0.y(), line.p1.y()) - margin;
+    y_max = std::max(line.p0.y(), line.p1.y()) + margin;
+  }
+
+  bool contains(const Eigen::Vector2f& p, const AssociationParams& params) const {
+    if (!valid || !(std::abs(abc.x() * p.x() + abc.y() * p.y() + abc.z()) < params.max_distance)) return false;
+    const bool in_x = p.x() >= x_min && p.x() <= x_max;
+    const bool in_y = p.y() >= y_min && p.y() <= y_max;
+    return params.require_both_extents ? (in_x && in_y) : (in_x || in_y);
+  }
+};
+
 // Fills lines_of_point from points_of_line (both ascending as the lines are visited in order).
 void fill_lines_of_point(PointLineAssociation& association) {
   for (size_t l = 0; l < association.points_of_line.size(); ++l)
@@ -55,13 +79,7 @@ void fill_lines_of_point(PointLineAssociation& association) {
 }  // namespace
 
 bool point_belongs_to_segment(const Eigen::Vector2f& point, const LineSegment& line, const AssociationParams& params) {
-  if (!(line.distance_to_line(point) < params.max_distance)) return false;
-  const float m = params.extent_margin;
-  const bool in_x = point.x() >= std::min(line.p0.x(), line.p1.x()) - m &&
-                    point.x() <= std::max(line.p0.x(), line.p1.x()) + m;
-  const bool in_y = point.y() >= std::min(line.p0.y(), line.p1.y()) - m &&
-                    point.y() <= std::max(line.p0.y(), line.p1.y()) + m;
-  return params.require_both_extents ? (in_x && in_y) : (in_x || in_y);
+  return PreparedSegment(line, params.extent_margin).contains(point, params);
 }
 
 PointLineAssociation associate_points_to_lines_brute_force(const std::vector<Eigen::Vector2f>& points,
@@ -70,10 +88,11 @@ PointLineAssociation associate_points_to_lines_brute_force(const std::vector<Eig
   PointLineAssociation association;
   association.points_of_line.resize(lines.size());
   association.lines_of_point.resize(points.size());
-  for (size_t l = 0; l < lines.size(); ++l)
+  for (size_t l = 0; l < lines.size(); ++l) {
+    const PreparedSegment segment(lines[l], params.extent_margin);
     for (size_t p = 0; p < points.size(); ++p)
-      if (point_belongs_to_segment(points[p], lines[l], params))
-        association.points_of_line[l].push_back(static_cast<int>(p));
+      if (segment.contains(points[p], params)) association.points_of_line[l].push_back(static_cast<int>(p));
+  }
   fill_lines_of_point(association);
   return association;
 }
@@ -104,17 +123,17 @@ PointLineAssociation associate_points_to_lines(const std::vector<Eigen::Vector2f
 
   for (size_t l = 0; l < lines.size(); ++l) {
     const LineSegment& line = lines[l];
-    if (!(line.length() > 0.0f)) continue;  // a degenerate segment has no supporting line
-    const Eigen::Vector3f abc = line.coefficients();
+    const PreparedSegment segment(line, params.extent_margin);
+    if (!segment.valid) continue;
+    const Eigen::Vector3f& abc = segment.abc;
     // Search window: the segment's box grown by margin (and by the corridor) when both extents are required;
     // with the paper's "or" rule a point can lie anywhere along the supporting line.
     float x0 = grid.origin.x(), x1 = grid_max_x, y0 = grid.origin.y(), y1 = grid_max_y;
     if (params.require_both_extents) {
-      const float grow = params.extent_margin;
-      x0 = std::min(line.p0.x(), line.p1.x()) - grow;
-      x1 = std::max(line.p0.x(), line.p1.x()) + grow;
-      y0 = std::min(line.p0.y(), line.p1.y()) - grow;
-      y1 = std::max(line.p0.y(), line.p1.y()) + grow;
+      x0 = segment.x_min;
+      x1 = segment.x_max;
+      y0 = segment.y_min;
+      y1 = segment.y_max;
     }
     int cx0, cx1, cy0, cy1;
     if (!PointGrid::cell_range(x0, x1, grid.origin.x(), cell, grid.cols, cx0, cx1) ||
@@ -129,7 +148,7 @@ PointLineAssociation associate_points_to_lines(const std::vector<Eigen::Vector2f
         const int c = cy * grid.cols + cx;
         for (int k = grid.cell_begin[c]; k < grid.cell_begin[c + 1]; ++k) {
           const int p = grid.point_ids[k];
-          if (point_belongs_to_segment(points[p], line, params)) members.push_back(p);
+          if (segment.contains(points[p], params)) members.push_back(p);
         }
       }
     }
