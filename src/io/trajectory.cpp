@@ -229,15 +229,19 @@ GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& opt
   if (frame == PoseFrame::automatic) frame = PoseFrame::camera;
   gt.frame = frame;
   if (frame == PoseFrame::body) {
+    std::optional<Eigen::Isometry3d> T_body_camera = options.T_body_camera;
     const fs::path guess = file.parent_path().parent_path() / "cam0" / "sensor.yaml";
-    if (options.sensor_yaml) gt.sensor_yaml = options.sensor_yaml;
-    else if (fs::is_regular_file(guess)) gt.sensor_yaml = guess;
-    if (gt.sensor_yaml) {
-      const Eigen::Isometry3d T_body_camera = read_euroc_camera_yaml(*gt.sensor_yaml).T_body_camera;
-      for (auto& stamped : gt.poses) stamped.pose = stamped.pose * T_body_camera;
+    if (!T_body_camera) {
+      if (options.sensor_yaml) gt.sensor_yaml = options.sensor_yaml;
+      else if (fs::is_regular_file(guess)) gt.sensor_yaml = guess;
+      if (gt.sensor_yaml) T_body_camera = read_euroc_camera_yaml(*gt.sensor_yaml).T_body_camera;
+    }
+    if (T_body_camera) {
+      for (auto& stamped : gt.poses) stamped.pose = stamped.pose * *T_body_camera;
       gt.frame = PoseFrame::camera;
       gt.body_to_camera_applied = true;
-      gt.note += fmt::format("; body poses converted to cam0 with T_BS from {}", gt.sensor_yaml->string());
+      gt.note += fmt::format("; body poses converted to cam0 with T_BS from {}",
+                             gt.sensor_yaml ? gt.sensor_yaml->string() : std::string("the calibration"));
     } else {
       gt.note += "; body (IMU) poses, no cam0 sensor.yaml found: errors include the camera lever arm";
       spdlog::warn("{}: ground truth is the body pose and no cam0 sensor.yaml was found (pass one to convert it to "
@@ -246,6 +250,14 @@ GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& opt
     }
   }
   return gt;
+}
+
+std::optional<GroundTruth> read_dataset_groundtruth(const StereoDataset& dataset) {
+  if (!dataset.groundtruth_path()) return std::nullopt;
+  GroundTruthOptions options;
+  options.T_body_camera = dataset.calibration().left.T_body_camera;
+  if (dataset.times_path()) options.kitti_times = dataset.times_path();
+  return read_groundtruth(*dataset.groundtruth_path(), options);
 }
 
 }  // namespace vkvo::io

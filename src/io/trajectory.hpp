@@ -75,7 +75,9 @@ struct GroundTruthOptions {
   // automatic: a 17-column EuRoC CSV (state_groundtruth_estimate0) is the body pose; everything else is taken to
   // be the left-camera pose (TUM, KITTI poses.txt, the 8-column EuRoC_left_cam files).
   PoseFrame frame = PoseFrame::automatic;
-  // cam0 sensor.yaml giving T_BS (camera in body). When absent, <gt dir>/../cam0/sensor.yaml is tried.
+  // The left camera's pose in the body frame (T_BS). Takes precedence over sensor_yaml.
+  std::optional<Eigen::Isometry3d> T_body_camera;
+  // cam0 sensor.yaml giving T_BS. When neither is given, <gt dir>/../cam0/sensor.yaml is tried.
   std::optional<std::filesystem::path> sensor_yaml;
   // KITTI: times.txt. When absent: times.txt next to poses.txt, or ../sequences/<stem>/times.txt (official
   // layout), else 10 Hz nominal.
@@ -87,7 +89,7 @@ struct GroundTruth {
   TrajectoryFormat format = TrajectoryFormat::automatic;
   PoseFrame frame = PoseFrame::camera;         // the frame of `poses` after conversion
   bool body_to_camera_applied = false;
-  std::optional<std::filesystem::path> sensor_yaml;  // where T_BS came from
+  std::optional<std::filesystem::path> sensor_yaml;  // where T_BS came from (unset when given directly)
   std::string note;                                  // a human-readable account of the above
 };
 
@@ -95,5 +97,11 @@ struct GroundTruth {
 // composed with cam0's T_BS (T_world_cam = T_world_body * T_BS). Body poses without a sensor.yaml stay body poses
 // (frame == body) with a warning: ATE then includes the camera's lever arm.
 GroundTruth read_groundtruth(const std::filesystem::path& file, const GroundTruthOptions& options = {});
+
+class StereoDataset;
+// The ground truth found with a dataset (StereoDataset::groundtruth_path), as left-camera poses: EuRoC body poses
+// are converted with the dataset's left T_body_camera, KITTI poses use the dataset's times.txt. nullopt when the
+// dataset has no ground-truth file. Covers the whole sequence (the frame range is not applied).
+std::optional<GroundTruth> read_dataset_groundtruth(const StereoDataset& dataset);
 
 }  // namespace vkvo::io

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "common/test_support.hpp"
+#include "io/dataset.hpp"
 #include "io/trajectory.hpp"
 
 using namespace vkvo;
@@ -33,4 +34,15 @@ TEST(GroundTruthData, KittiPoses) {
   for (std::size_t k = 1; k < gt.poses.size(); ++k)
     path += (gt.poses[k].pose.translation() - gt.poses[k - 1].pose.translation()).norm();
   EXPECT_NEAR(path, 51.8, 0.1);  // PROVENANCE.md: "a 51.8 m path"
+}
+
+TEST(GroundTruthData, FoundWithTheDatasets) {
+  VKVO_REQUIRE_DATA(dir, "datasets");
+  const auto euroc = io::read_dataset_groundtruth(*io::open_dataset(dir / "euroc_mh01_subset"));
+  ASSERT_TRUE(euroc.has_value());
+  EXPECT_EQ(euroc->poses.size(), 3638u);
+  EXPECT_FALSE(euroc->body_to_camera_applied);  // EuRoC_left_cam is already the cam0 pose
+  const auto kitti = io::read_dataset_groundtruth(*io::open_dataset(dir / "kitti_seq01_f000-050"));
+  ASSERT_TRUE(kitti.has_value());
+  EXPECT_EQ(kitti->poses.size(), 51u);
 }

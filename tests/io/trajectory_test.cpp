@@ -133,6 +133,16 @@ TEST(GroundTruth, EurocBodyPosesAreConvertedWithTbs) {
   EXPECT_TRUE(gt.poses[0].pose.translation().isApprox(Eigen::Vector3d(1, 0.5, 0.1), 1e-12))
       << gt.poses[0].pose.translation().transpose();
 
+  io::GroundTruthOptions given;  // T_BS given directly (e.g. from a dataset's calibration) wins over the file
+  given.T_body_camera = Eigen::Isometry3d(Eigen::Translation3d(0, 0, 2));
+  EXPECT_TRUE(io::read_groundtruth(mav0 / "state_groundtruth_estimate0" / "data.csv", given)
+                  .poses[0]
+                  .pose.translation()
+                  .isApprox(Eigen::Vector3d(1, 0, 2), 1e-12));
+  given = {};
+  given.frame = io::PoseFrame::camera;  // forced: no conversion
+  EXPECT_FALSE(io::read_groundtruth(mav0 / "state_groundtruth_estimate0" / "data.csv", given).body_to_camera_applied);
+
   fs::remove(mav0 / "cam0" / "sensor.yaml");  // no T_BS: stays a body pose, said so
   const auto body = io::read_groundtruth(mav0 / "state_groundtruth_estimate0" / "data.csv");
   EXPECT_FALSE(body.body_to_camera_applied);
