@@ -1,0 +1,114 @@
+#pragma once
+// Vulkan instance + device + compute queue, chosen once per process and shared by all kernels and buffers.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan_raii.hpp>
+
+#include "runtime/precision.hpp"
+
+namespace vkvo::rt {
+
+// Any failure of the Vulkan runtime: no driver, no device, unsupported feature, allocation failure.
+class VulkanError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct MemoryHeap {
+  std::uint64_t bytes = 0;
+  bool device_local = false;
+};
+
+// What a physical device can do, as far as vkvo cares.
+struct DeviceCaps {
+  std::uint32_t index = 0;  // position in vkEnumeratePhysicalDevices
+  std::string name;
+  std::string type;  // discrete | integrated | virtual | cpu | other
+  std::uint32_t vendor_id = 0, device_id = 0;
+  std::uint32_t api_version = 0;
+  std::string driver;  // driver name + info where the device reports them
+  bool float16_arithmetic = false;
+  bool int8_arithmetic = false;
+  bool storage_16bit = false;
+  bool storage_8bit = false;
+  std::uint32_t subgroup_size = 0;
+  bool subgroup_arithmetic = false;
+  bool timestamps = false;
+  double timestamp_period_ns = 0;
+  bool unified_memory = false;  // every device-local heap is host visible (lavapipe, Jetson, phones)
+  std::uint32_t max_workgroup_invocations = 0;
+  std::uint32_t max_shared_memory_bytes = 0;
+  std::uint64_t max_storage_buffer_range = 0;
+  std::vector<MemoryHeap> heaps;
+
+  bool supports(Precision p) const;
+  // fp16 math where the device has it natively (GPUs), fp16 storage with fp32 math on CPU devices (lavapipe
+  // emulates fp16 math, ~7x slower), fp32 where there is no 16-bit storage.
+  Precision preferred_precision() const;
+};
+
+struct ContextOptions {
+  // Device selector: index or case-insensitive name substring. Empty: $VKVO_DEVICE, else the best device
+  // (discrete > integrated > virtual > cpu).
+  std::string device;
+  // Khronos validation layer + messenger. nullopt: on when $VKVO_VALIDATION=1.
+  std::optional<bool> validation;
+  // Where the on-disk pipeline cache lives. Empty: $VKVO_CACHE_DIR, $XDG_CACHE_HOME/vkvo or ~/.cache/vkvo.
+  std::filesystem::path cache_dir;
+  bool pipeline_cache = true;
+};
+
+// Lists every Vulkan device (throws VulkanError naming the cause when there is no loader, driver or device).
+std::vector<DeviceCaps> list_devices();
+
+// Number of validation-layer warnings and errors reported so far in this process (tests assert it stays 0).
+std::uint64_t validation_message_count();
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& options = {});
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  const DeviceCaps& caps() const { return caps_; }
+  bool validation_enabled() const { return validation_enabled_; }
+
+  const vk::raii::Device& device() const { return device_; }
+  const vk::raii::PhysicalDevice& physical_device() const { return physical_device_; }
+  const vk::raii::Queue& queue() const { return queue_; }
+  std::uint32_t queue_family() const { return queue_family_; }
+  const vk::raii::PipelineCache& pipeline_cache() const { return pipeline_cache_; }
+
+  // A memory type index among `type_bits` having all `required` properties; nullopt if none.
+  std::optional<std::uint32_t> find_memory_type(std::uint32_t type_bits, vk::MemoryPropertyFlags required) const;
+
+  // Runs `record` in a one-time command buffer and waits for it (uploads/downloads through staging).
+  void run_once(const std::function<void(const vk::raii::CommandBuffer&)>& record) const;
+
+  // Writes the pipeline cache to disk now (also done by the destructor).
+  void save_pipeline_cache() const;
+
+ private:
+  vk::raii::Context loader_;
+  vk::raii::Instance instance_{nullptr};
+  vk::raii::DebugUtilsMessengerEXT messenger_{nullptr};
+  vk::raii::PhysicalDevice physical_device_{nullptr};
+  vk::raii::Device device_{nullptr};
+  vk::raii::Queue queue_{nullptr};
+  vk::raii::CommandPool transfer_pool_{nullptr};
+  vk::raii::PipelineCache pipeline_cache_{nullptr};
+  std::uint32_t queue_family_ = 0;
+  DeviceCaps caps_;
+  bool validation_enabled_ = false;
+  std::filesystem::path cache_file_;
+};
+
+}  // namespace vkvo::rt

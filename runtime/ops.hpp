@@ -1,0 +1,72 @@
+#pragma once
+// Host side of the generic neural-network kernels in shaders/: each op owns its pipeline and records one
+// dispatch into a Sequence. Activations are CHW planes with an optional zero border (shaders/include/tensor.glsl).
+#include <cstdint>
+#include <string>
+
+#include "runtime/buffer.hpp"
+#include "runtime/kernel.hpp"
+#include "runtime/sequence.hpp"
+
+namespace vkvo::rt {
+
+struct ActivationShape {
+  std::uint32_t channels = 0, height = 0, width = 0, pad = 0;
+  std::size_t elements() const {
+    return std::size_t(channels) * (height + 2 * pad) * (width + 2 * pad);
+  }
+};
+
+// Bytes of a buffer holding `shape` at `precision`.
+std::size_t activation_bytes(const ActivationShape& shape, Precision precision);
+
+// 3x3 (stride 1, pad 1; input must carry a 1-pixel zero border) or 1x1 convolution + bias (+ ReLU).
+// Weights in the "o4" layout (runtime/tensor_layout.hpp) at the op's storage precision; bias fp32, padded to 4.
+class Conv2d {
+ public:
+  Conv2d(const Context& context, Precision precision, std::uint32_t kernel_size);
+  void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Buffer& weights,
+              const Buffer& bias, const Buffer& output, const ActivationShape& out, bool relu,
+              std::string label = {}) const;
+  static double flops(const ActivationShape& in, std::uint32_t out_channels, std::uint32_t kernel_size) {
+    return 2.0 * in.height * in.width * in.channels * out_channels * kernel_size * kernel_size;
+  }
+
+ private:
+  std::uint32_t kernel_size_;
+  Kernel kernel_;
+};
+
+// 2x2 max-pool, stride 2, floor semantics.
+class MaxPool2x2 {
+ public:
+  MaxPool2x2(const Context& context, Precision precision);
+  void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Buffer& output,
+              std::uint32_t out_pad, std::string label = {}) const;
+
+ private:
+  Kernel kernel_;
+};
+
+// C(MxN) = alpha * A(MxK) * op(B) + bias (+ ReLU); op(B) = B (K x N) or B^T (B stored N x K). Row-major.
+struct GemmShape {
+  std::uint32_t m = 0, n = 0, k = 0;
+  bool b_transposed = false;
+  bool relu = false;
+  float alpha = 1.0f;
+};
+
+class Gemm {
+ public:
+  Gemm(const Context& context, Precision precision);
+  // `bias` (N floats, fp32) may be null.
+  void record(Sequence& seq, const Buffer& a, const Buffer& b, const Buffer* bias, const Buffer& c,
+              const GemmShape& shape, std::string label = {}) const;
+  static double flops(const GemmShape& s) { return 2.0 * s.m * s.n * s.k; }
+
+ private:
+  Kernel kernel_;
+  Buffer dummy_bias_;
+};
+
+}  // namespace vkvo::rt

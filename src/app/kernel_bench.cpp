@@ -1,0 +1,114 @@
+#include "app/kernel_bench.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+
+#include <fmt/format.h>
+
+#include "runtime/ops.hpp"
+#include "runtime/tensor_layout.hpp"
+
+namespace vkvo::app {
+namespace {
+
+// Submits the recorded sequence `repeat` times (after a warm-up) and returns the median time.
+double time_sequence(rt::Sequence& seq, int repeat, bool timestamps) {
+  seq.submit();  // warm-up: first-touch of memory, pipeline compilation on some drivers
+  std::vector<double> samples;
+  for (int i = 0; i < repeat; ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    seq.submit();
+    const auto wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    samples.push_back(timestamps ? seq.gpu_ms() : wall);
+  }
+  return median_ms(samples);
+}
+
+}  // namespace
+
+double median_ms(const std::vector<double>& samples) {
+  if (samples.empty()) return 0;
+  auto sorted = samples;
+  std::sort(sorted.begin(), sorted.end());
+  const std::size_t n = sorted.size();
+  return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+}
+
+std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision precision, int repeat) {
+  const bool timestamps = ctx.caps().timestamps;
+  const double elem = double(rt::storage_bytes(precision));
+  std::vector<BenchResult> results;
+  const auto name = std::string(rt::to_string(precision));
+
+  // Convolutions at SuperPoint's shapes for a 752x480 input (the 64->64 layer at 376x240 is the figure).
+  struct ConvCase {
+    std::uint32_t in_c, out_c, h, w, k;
+  };
+  for (const ConvCase c : {ConvCase{64, 64, 240, 376, 3}, ConvCase{1, 64, 480, 752, 3}, ConvCase{64, 64, 480, 752, 3},
+                           ConvCase{128, 256, 60, 94, 3}, ConvCase{256, 65, 60, 94, 1}}) {
+    const rt::ActivationShape in{c.in_c, c.h, c.w, c.k == 3 ? 1u : 0u};
+    const rt::ActivationShape out{c.out_c, c.h, c.w, 1};
+    rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));
+    rt::Buffer out_buf(ctx, rt::activation_bytes(out, precision));
+    rt::Buffer w_buf(ctx, rt::round_up(c.out_c, 4) * c.in_c * c.k * c.k * rt::storage_bytes(precision));
+    rt::Buffer b_buf(ctx, rt::round_up(c.out_c, 4) * sizeof(float));
+    in_buf.fill_zero();
+    w_buf.fill_zero();
+    b_buf.fill_zero();
+    const rt::Conv2d conv(ctx, precision, c.k);
+    rt::Sequence seq(ctx);
+    seq.begin();
+    conv.record(seq, in_buf, in, w_buf, b_buf, out_buf, out, true);
+    seq.end();
+    const double ms = time_sequence(seq, repeat, timestamps);
+    const double bytes = (double(in.elements()) + double(out.elements())) * elem;
+    results.push_back({fmt::format("conv{}x{} {}->{} @{}x{}", c.k, c.k, c.in_c, c.out_c, c.w, c.h), name, ms,
+                       rt::Conv2d::flops(in, c.out_c, c.k) / (ms * 1e6), bytes / (ms * 1e6)});
+  }
+
+  {  // 2x2 max-pool of SuperPoint's first block
+    const rt::ActivationShape in{64, 480, 752, 1};
+    rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));
+    rt::Buffer out_buf(ctx, rt::activation_bytes({64, 240, 376, 1}, precision));
+    in_buf.fill_zero();
+    const rt::MaxPool2x2 pool(ctx, precision);
+    rt::Sequence seq(ctx);
+    seq.begin();
+    pool.record(seq, in_buf, in, out_buf, 1);
+    seq.end();
+    const double ms = time_sequence(seq, repeat, timestamps);
+    results.push_back({"maxpool2x2 64ch @752x480", name, ms, 0, double(in.elements()) * 1.25 * elem / (ms * 1e6)});
+  }
+
+  // GEMMs at SuperGlue's shapes for 400 keypoints: a projection (B^T = weight) and attention scores.
+  for (const rt::GemmShape s : {rt::GemmShape{.m = 400, .n = 256, .k = 256, .b_transposed = true},
+                                rt::GemmShape{.m = 400, .n = 400, .k = 64, .b_transposed = true},
+                                rt::GemmShape{.m = 1000, .n = 512, .k = 512, .b_transposed = true}}) {
+    rt::Buffer a(ctx, std::size_t(s.m) * s.k * rt::storage_bytes(precision));
+    rt::Buffer b(ctx, std::size_t(s.n) * s.k * rt::storage_bytes(precision));
+    rt::Buffer c(ctx, std::size_t(s.m) * s.n * rt::storage_bytes(precision));
+    a.fill_zero();
+    b.fill_zero();
+    const rt::Gemm gemm(ctx, precision);
+    rt::Sequence seq(ctx);
+    seq.begin();
+    gemm.record(seq, a, b, nullptr, c, s);
+    seq.end();
+    const double ms = time_sequence(seq, repeat, timestamps);
+    const double bytes = (double(s.m) * s.k + double(s.n) * s.k + double(s.m) * s.n) * elem;
+    results.push_back({fmt::format("gemm {}x{}x{}{}", s.m, s.n, s.k, s.b_transposed ? " B^T" : ""), name, ms,
+                       rt::Gemm::flops(s) / (ms * 1e6), bytes / (ms * 1e6)});
+  }
+  return results;
+}
+
+void print_bench_header() {
+  fmt::print("{:<34} {:<6} {:>10} {:>10} {:>9}\n", "kernel", "prec", "median ms", "GFLOP/s", "GB/s");
+}
+
+void print_bench_row(const BenchResult& r) {
+  fmt::print("{:<34} {:<6} {:>10.3f} {:>10.1f} {:>9.2f}\n", r.name, r.precision, r.median_ms, r.gflops, r.gbytes);
+}
+
+}  // namespace vkvo::app

@@ -1,0 +1,44 @@
+#include "common/test_support.hpp"
+
+#include <cstdlib>
+
+namespace vkvo::test {
+
+std::optional<std::filesystem::path> shared_data_dir() {
+  if (const char* env = std::getenv("VKVO_DATA"); env && *env) {
+    if (std::filesystem::is_directory(env)) return std::filesystem::path(env);
+    return std::nullopt;
+  }
+  const auto sibling = source_dir().parent_path() / "shared";
+  if (std::filesystem::is_directory(sibling)) return sibling;
+  return std::nullopt;
+}
+
+std::filesystem::path source_dir() { return VKVO_SOURCE_DIR; }
+
+std::filesystem::path temp_dir(const std::string& tag) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = tag;
+  if (info) name += std::string("_") + info->test_suite_name() + "_" + info->name();
+  for (char& c : name)
+    if (c == '/') c = '_';
+  const auto dir = std::filesystem::temp_directory_path() / "vkvo_tests" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace vkvo::test
+
+#include "common/gpu.hpp"
+
+#include <memory>
+
+namespace vkvo::test {
+
+rt::Context& gpu() {
+  static std::unique_ptr<rt::Context> context = std::make_unique<rt::Context>();
+  return *context;
+}
+
+}  // namespace vkvo::test

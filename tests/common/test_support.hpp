@@ -1,0 +1,29 @@
+#pragma once
+// Helpers shared by all test executables.
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace vkvo::test {
+
+// The shared data folder: $VKVO_DATA, else ../shared next to the checkout. nullopt when neither exists.
+std::optional<std::filesystem::path> shared_data_dir();
+
+// The project's source tree (for config/ files and the like).
+std::filesystem::path source_dir();
+
+// A fresh, empty temporary directory unique to the calling test.
+std::filesystem::path temp_dir(const std::string& tag);
+
+}  // namespace vkvo::test
+
+// Skips the current test with a clear message when the shared data (or a file in it) is not there.
+// Usage: VKVO_REQUIRE_DATA(dir, "golden/superpoint");  ->  dir is the full path afterwards.
+#define VKVO_REQUIRE_DATA(var, relative)                                                                  \
+  const auto var##_root = ::vkvo::test::shared_data_dir();                                                \
+  if (!var##_root) GTEST_SKIP() << "shared data not found: set VKVO_DATA or put ../shared next to the "   \
+                                   "checkout (needed: " << (relative) << ")";                            \
+  const std::filesystem::path var = *var##_root / (relative);                                             \
+  if (!std::filesystem::exists(var)) GTEST_SKIP() << "shared data lacks " << var.string()

@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include "common/gpu.hpp"
+#include "runtime/context.hpp"
+
+namespace vkvo::rt {
+namespace {
+
+TEST(Context, ListsAtLeastOneDeviceWithSaneCaps) {
+  const auto devices = list_devices();
+  ASSERT_FALSE(devices.empty());
+  for (const auto& d : devices) {
+    EXPECT_FALSE(d.name.empty());
+    EXPECT_GE(d.api_version, VK_API_VERSION_1_1) << d.name;
+    EXPECT_GT(d.subgroup_size, 0u) << d.name;
+    EXPECT_GE(d.max_workgroup_invocations, 128u) << d.name;
+    EXPECT_FALSE(d.heaps.empty()) << d.name;
+  }
+}
+
+TEST(Context, SharedContextHasAPrecisionItSupports) {
+  const auto& caps = test::gpu().caps();
+  EXPECT_TRUE(caps.supports(Precision::fp32));
+  EXPECT_TRUE(caps.supports(caps.preferred_precision()));
+  if (caps.type == "cpu") EXPECT_NE(caps.preferred_precision(), Precision::fp16) << "fp16 math is emulated on CPUs";
+}
+
+TEST(Context, SelectsDeviceByIndexAndByNameSubstring) {
+  const auto devices = list_devices();
+  const Context by_index({.device = "0", .validation = false, .pipeline_cache = false});
+  EXPECT_EQ(by_index.caps().name, devices[0].name);
+  std::string fragment = devices[0].name.substr(0, 4);
+  for (auto& c : fragment) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));  // case-insensitive
+  const Context by_name({.device = fragment, .validation = false, .pipeline_cache = false});
+  EXPECT_EQ(by_name.caps().name, devices[0].name);
+}
+
+TEST(Context, UnknownDeviceSelectorIsAClearError) {
+  try {
+    const Context context({.device = "no-such-gpu-xyz", .validation = false, .pipeline_cache = false});
+    FAIL() << "expected VulkanError";
+  } catch (const VulkanError& e) {
+    EXPECT_NE(std::string(e.what()).find("no-such-gpu-xyz"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(Context({.device = "999", .validation = false, .pipeline_cache = false}), VulkanError);
+}
+
+TEST(Context, PipelineCacheIsWrittenToDisk) {
+  const auto dir = std::filesystem::temp_directory_path() / "vkvo_tests" / "pipeline_cache";
+  std::filesystem::remove_all(dir);
+  {
+    const Context context({.validation = false, .cache_dir = dir});
+  }
+  ASSERT_TRUE(std::filesystem::exists(dir));
+  EXPECT_FALSE(std::filesystem::is_empty(dir));
+}
+
+}  // namespace
+}  // namespace vkvo::rt
+
+namespace vkvo::rt {
+namespace {
+
+// ctest runs every test with VKVO_VALIDATION=1: make sure the layer really is there, or "no validation
+// messages" would prove nothing.
+TEST(Context, ValidationLayerIsActiveWhenRequested) {
+  const char* env = std::getenv("VKVO_VALIDATION");
+  if (!env || std::string(env) != "1") GTEST_SKIP() << "VKVO_VALIDATION is not 1 (ctest sets it)";
+  EXPECT_TRUE(test::gpu().validation_enabled()) << "install vulkan-validationlayers (tools/setup.sh does)";
+}
+
+}  // namespace
+}  // namespace vkvo::rt

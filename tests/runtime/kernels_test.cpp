@@ -1,0 +1,180 @@
+// The first kernels (conv3x3 + bias + ReLU, conv1x1, 2x2 max-pool, GEMM) against plain C++ references on random
+// data, in every precision the device supports, at sizes that are not multiples of the workgroup tiles.
+#include <gtest/gtest.h>
+
+#include "common/gpu.hpp"
+#include "kernel_test_util.hpp"
+#include "runtime/context.hpp"
+#include "runtime/ops.hpp"
+#include "runtime/tensor_layout.hpp"
+
+namespace vkvo::rt {
+namespace {
+
+using test::as_stored;
+using test::gpu;
+using test::random_values;
+
+// Plain convolution on unpadded CHW tensors (PyTorch semantics: stride 1, zero padding k/2).
+std::vector<float> reference_conv(const std::vector<float>& in, const std::vector<float>& w, const std::vector<float>& b,
+                                  int ic, int oc, int h, int wd, int k, bool relu) {
+  std::vector<float> out(std::size_t(oc) * h * wd);
+  const int r = k / 2;
+  for (int o = 0; o < oc; ++o)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < wd; ++x) {
+        double s = b[o];
+        for (int i = 0; i < ic; ++i)
+          for (int ky = 0; ky < k; ++ky)
+            for (int kx = 0; kx < k; ++kx) {
+              const int yy = y + ky - r, xx = x + kx - r;
+              if (yy < 0 || yy >= h || xx < 0 || xx >= wd) continue;
+              s += double(w[((o * ic + i) * k + ky) * k + kx]) * in[(i * h + yy) * wd + xx];
+            }
+        out[(o * h + y) * wd + x] = relu ? std::max(0.0f, float(s)) : float(s);
+      }
+  return out;
+}
+
+// CHW -> CHW with a zero border of `pad`, and back.
+std::vector<float> add_border(const std::vector<float>& t, int c, int h, int w, int pad) {
+  std::vector<float> out(std::size_t(c) * (h + 2 * pad) * (w + 2 * pad), 0.0f);
+  for (int i = 0; i < c; ++i)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) out[(i * (h + 2 * pad) + y + pad) * (w + 2 * pad) + x + pad] = t[(i * h + y) * w + x];
+  return out;
+}
+std::vector<float> strip_border(const std::vector<float>& t, int c, int h, int w, int pad) {
+  std::vector<float> out(std::size_t(c) * h * w);
+  for (int i = 0; i < c; ++i)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) out[(i * h + y) * w + x] = t[(i * (h + 2 * pad) + y + pad) * (w + 2 * pad) + x + pad];
+  return out;
+}
+
+class Kernels : public ::testing::TestWithParam<Precision> {
+ protected:
+  void SetUp() override {
+    if (!gpu().caps().supports(GetParam()))
+      GTEST_SKIP() << gpu().caps().name << " does not support " << to_string(GetParam());
+  }
+  Precision precision() const { return GetParam(); }
+};
+
+struct ConvCase {
+  int in_c, out_c, h, w, k, in_pad, out_pad;
+  bool relu;
+};
+
+void check_conv(Precision precision, const ConvCase& c, std::uint32_t seed) {
+  auto& ctx = gpu();
+  const auto input = as_stored(random_values(std::size_t(c.in_c) * c.h * c.w, seed), precision);
+  const auto weights = as_stored(random_values(std::size_t(c.out_c) * c.in_c * c.k * c.k, seed + 1, -0.5f, 0.5f), precision);
+  const auto bias = random_values(c.out_c, seed + 2);
+  const auto expected = reference_conv(input, weights, bias, c.in_c, c.out_c, c.h, c.w, c.k, c.relu);
+
+  const ActivationShape in{std::uint32_t(c.in_c), std::uint32_t(c.h), std::uint32_t(c.w), std::uint32_t(c.in_pad)};
+  const ActivationShape out{std::uint32_t(c.out_c), std::uint32_t(c.h), std::uint32_t(c.w), std::uint32_t(c.out_pad)};
+  auto in_buf = test::upload_tensor(ctx, add_border(input, c.in_c, c.h, c.w, c.in_pad), precision);
+  auto w_buf = test::upload_tensor(ctx, pack_conv_o4(weights, c.out_c, c.in_c, c.k, c.k), precision);
+  Buffer b_buf(ctx, round_up(c.out_c, 4) * sizeof(float));
+  b_buf.upload(std::span<const float>(pad_bias_o4(bias)));
+  Buffer out_buf(ctx, activation_bytes(out, precision));
+  out_buf.fill_zero();
+
+  const Conv2d conv(ctx, precision, std::uint32_t(c.k));
+  Sequence seq(ctx);
+  seq.begin();
+  conv.record(seq, in_buf, in, w_buf, b_buf, out_buf, out, c.relu);
+  seq.end();
+  seq.submit();
+  const auto padded = test::download_tensor(out_buf, out.elements(), precision);
+  const auto got = strip_border(padded, c.out_c, c.h, c.w, c.out_pad);
+  const float tol = test::tolerance(precision, expected);
+  EXPECT_LE(test::max_abs_diff(got, expected), tol)
+      << "conv" << c.k << "x" << c.k << " " << c.in_c << "->" << c.out_c << " at " << c.w << "x" << c.h;
+  // The border of a padded output must stay zero: the next 3x3 layer reads it as padding.
+  if (c.out_pad) {
+    const auto interior = add_border(got, c.out_c, c.h, c.w, c.out_pad);
+    EXPECT_EQ(test::max_abs_diff(padded, interior), 0.0f) << "output border was written";
+  }
+}
+
+TEST_P(Kernels, Conv3x3BiasReluMatchesReference) {
+  check_conv(precision(), {3, 8, 13, 29, 3, 1, 1, true}, 11);   // odd sizes, partial x blocks and y groups
+  check_conv(precision(), {16, 6, 9, 7, 3, 1, 0, false}, 12);   // out channels not a multiple of 4, no ReLU
+  check_conv(precision(), {1, 64, 24, 32, 3, 1, 1, true}, 13);  // SuperPoint's first layer shape
+}
+
+TEST_P(Kernels, Conv1x1MatchesReference) {
+  check_conv(precision(), {37, 65, 5, 11, 1, 0, 0, false}, 21);  // like the 65-channel detector head
+  check_conv(precision(), {8, 12, 7, 9, 1, 1, 1, true}, 22);     // padded input and output
+}
+
+TEST_P(Kernels, MaxPool2x2MatchesReference) {
+  auto& ctx = gpu();
+  const int c = 5, h = 13, w = 18;  // odd height: last row dropped (floor)
+  const auto input = as_stored(random_values(std::size_t(c) * h * w, 31), precision());
+  const int oh = h / 2, ow = w / 2;
+  std::vector<float> expected(std::size_t(c) * oh * ow);
+  for (int i = 0; i < c; ++i)
+    for (int y = 0; y < oh; ++y)
+      for (int x = 0; x < ow; ++x) {
+        const float* p = &input[(i * h + 2 * y) * w + 2 * x];
+        expected[(i * oh + y) * ow + x] = std::max(std::max(p[0], p[1]), std::max(p[w], p[w + 1]));
+      }
+  auto in_buf = test::upload_tensor(ctx, add_border(input, c, h, w, 1), precision());
+  const ActivationShape out{std::uint32_t(c), std::uint32_t(oh), std::uint32_t(ow), 1};
+  Buffer out_buf(ctx, activation_bytes(out, precision()));
+  out_buf.fill_zero();
+  const MaxPool2x2 pool(ctx, precision());
+  Sequence seq(ctx);
+  seq.begin();
+  pool.record(seq, in_buf, {std::uint32_t(c), std::uint32_t(h), std::uint32_t(w), 1}, out_buf, 1);
+  seq.end();
+  seq.submit();
+  const auto got = strip_border(test::download_tensor(out_buf, out.elements(), precision()), c, oh, ow, 1);
+  EXPECT_EQ(test::max_abs_diff(got, expected), 0.0f) << "max-pool selects stored values exactly";
+}
+
+void check_gemm(Precision precision, GemmShape s, bool with_bias, std::uint32_t seed) {
+  auto& ctx = gpu();
+  const auto a = as_stored(random_values(std::size_t(s.m) * s.k, seed), precision);
+  const auto b = as_stored(random_values(std::size_t(s.k) * s.n, seed + 1), precision);
+  const auto bias = random_values(s.n, seed + 2);
+  std::vector<float> expected(std::size_t(s.m) * s.n);
+  for (std::uint32_t i = 0; i < s.m; ++i)
+    for (std::uint32_t j = 0; j < s.n; ++j) {
+      double acc = 0;
+      for (std::uint32_t k = 0; k < s.k; ++k)
+        acc += double(a[i * s.k + k]) * (s.b_transposed ? b[j * s.k + k] : b[k * s.n + j]);
+      float v = s.alpha * float(acc) + (with_bias ? bias[j] : 0.0f);
+      expected[i * s.n + j] = s.relu ? std::max(v, 0.0f) : v;
+    }
+  auto a_buf = test::upload_tensor(ctx, a, precision);
+  auto b_buf = test::upload_tensor(ctx, b, precision);
+  Buffer bias_buf(ctx, bias.size() * sizeof(float));
+  bias_buf.upload(std::span<const float>(bias));
+  Buffer c_buf(ctx, expected.size() * storage_bytes(precision));
+  const Gemm gemm(ctx, precision);
+  Sequence seq(ctx);
+  seq.begin();
+  gemm.record(seq, a_buf, b_buf, with_bias ? &bias_buf : nullptr, c_buf, s);
+  seq.end();
+  seq.submit();
+  const auto got = test::download_tensor(c_buf, expected.size(), precision);
+  EXPECT_LE(test::max_abs_diff(got, expected), test::tolerance(precision, expected))
+      << "gemm " << s.m << "x" << s.n << "x" << s.k << (s.b_transposed ? " B^T" : "");
+}
+
+TEST_P(Kernels, GemmMatchesReference) {
+  check_gemm(precision(), {.m = 37, .n = 70, .k = 129, .b_transposed = false}, true, 41);
+  check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true, 42);
+  check_gemm(precision(), {.m = 1, .n = 1, .k = 3, .b_transposed = true}, false, 43);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllPrecisions, Kernels, ::testing::ValuesIn(kAllPrecisions),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+}  // namespace
+}  // namespace vkvo::rt

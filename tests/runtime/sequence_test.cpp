@@ -1,0 +1,101 @@
+// Buffers and command sequences: transfers, automatic barriers between dependent dispatches, re-submission and
+// per-command timestamps.
+#include <gtest/gtest.h>
+
+#include "common/gpu.hpp"
+#include "kernel_test_util.hpp"
+#include "runtime/context.hpp"
+#include "runtime/ops.hpp"
+
+namespace vkvo::rt {
+namespace {
+
+using test::gpu;
+
+TEST(Buffer, RoundTripsBytesAtOffsets) {
+  Buffer buffer(gpu(), 1000, BufferKind::device, "roundtrip");
+  std::vector<std::uint8_t> data(300);
+  for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(i * 7);
+  buffer.upload(data.data(), data.size(), 500);
+  std::vector<std::uint8_t> back(300);
+  buffer.download(back.data(), back.size(), 500);
+  EXPECT_EQ(back, data);
+}
+
+TEST(Buffer, OverrunIsAnErrorNamingTheBuffer) {
+  Buffer buffer(gpu(), 64, BufferKind::device, "small_buffer");
+  std::vector<std::uint8_t> data(65);
+  try {
+    buffer.upload(data.data(), data.size());
+    FAIL() << "expected VulkanError";
+  } catch (const VulkanError& e) {
+    EXPECT_NE(std::string(e.what()).find("small_buffer"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Buffer, ZeroSizedBufferIsValid) {
+  Buffer empty(gpu(), 0);
+  EXPECT_EQ(empty.size(), 0u);
+  EXPECT_NO_THROW(empty.upload(nullptr, 0));
+}
+
+// A chain where every GEMM reads the previous result: wrong or missing barriers give wrong numbers.
+TEST(Sequence, DependentDispatchesSeeEachOthersResultsAndResubmitRepeats) {
+  auto& ctx = gpu();
+  const std::uint32_t n = 33;
+  std::vector<float> identity_x2(n * n, 0.0f);
+  for (std::uint32_t i = 0; i < n; ++i) identity_x2[i * n + i] = 2.0f;
+  const auto x = test::random_values(n * n, 5);
+  Buffer staging(ctx, x.size() * 4, BufferKind::staging, "input");
+  staging.upload(std::span<const float>(x));
+  Buffer ping(ctx, x.size() * 4, BufferKind::device, "ping"), pong(ctx, x.size() * 4, BufferKind::device, "pong");
+  Buffer scale(ctx, identity_x2.size() * 4, BufferKind::device, "2I");
+  scale.upload(std::span<const float>(identity_x2));
+
+  const Gemm gemm(ctx, Precision::fp32);
+  const GemmShape shape{.m = n, .n = n, .k = n};
+  Sequence seq(ctx);
+  seq.begin();
+  seq.copy(staging, ping, x.size() * 4);
+  for (int i = 0; i < 3; ++i) {  // ping -> pong -> ping -> pong, each step x2
+    gemm.record(seq, i % 2 ? pong : ping, scale, nullptr, i % 2 ? ping : pong, shape);
+  }
+  seq.end();
+  for (int run = 0; run < 2; ++run) {
+    seq.submit();
+    const auto y = pong.download<float>(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) ASSERT_NEAR(y[i], 8.0f * x[i], 1e-5f) << "run " << run << " at " << i;
+  }
+  EXPECT_EQ(seq.command_count(), 4u);
+  if (ctx.caps().timestamps) {
+    const auto timings = seq.timings();
+    ASSERT_EQ(timings.size(), 4u);
+    EXPECT_EQ(timings[0].label, "copy");
+    for (const auto& t : timings) EXPECT_GE(t.ms, 0.0) << t.label;
+    EXPECT_GT(seq.gpu_ms(), 0.0);
+  }
+}
+
+TEST(Sequence, WrongBindingCountIsRejected) {
+  auto& ctx = gpu();
+  const Kernel kernel(ctx, {.op = "maxpool2x2", .precision = Precision::fp32, .bindings = 2,
+                            .written_bindings = 2, .push_constant_bytes = 20, .specialization = {}});
+  Buffer a(ctx, 64);
+  Sequence seq(ctx);
+  seq.begin();
+  const std::uint32_t push[5] = {};
+  EXPECT_THROW(seq.dispatch(kernel, {a}, push, Groups{1}), VulkanError);
+  seq.end();
+}
+
+TEST(Sequence, UnknownShaderIsAClearError) {
+  try {
+    const Kernel kernel(gpu(), {.op = "no_such_op", .precision = Precision::fp32, .bindings = 1, .written_bindings = 0, .push_constant_bytes = 0, .specialization = {}});
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("no_such_op"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace vkvo::rt

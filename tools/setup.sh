@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package vkvo needs to build, test and run (idempotent, non-interactive).
+# Usage: tools/setup.sh        (as root, or with sudo available)
+set -euo pipefail
+
+packages=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config git
+  # Vulkan: loader + headers (Vulkan-Hpp), lavapipe CPU driver, validation layers, tools
+  libvulkan-dev vulkan-tools mesa-vulkan-drivers vulkan-validationlayers
+  # shader toolchain
+  glslc glslang-tools spirv-tools
+  # maths, vision, optimisation, threads
+  libeigen3-dev libopencv-dev libopencv-contrib-dev libceres-dev libtbb-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+  # CLI, logging, config, json
+  libcli11-dev libspdlog-dev libfmt-dev libyaml-cpp-dev nlohmann-json3-dev
+  # ONNX reading (converter)
+  libonnx-dev libprotobuf-dev protobuf-compiler
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

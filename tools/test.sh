@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# README command 2: installs the dependencies, builds vkvo and runs every test (GoogleTest under ctest).
+# Tests labelled `data` read ../shared (or $VKVO_DATA) and skip with a message where it is absent.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tools/setup.sh
+BUILD_DIR=${BUILD_DIR:-build}
+cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build "$BUILD_DIR" -j"$(nproc)"
+# lavapipe runs its shader invocations on LP_NUM_THREADS worker threads; ctest runs one test at a time so that
+# the GPU-heavy tests get the whole CPU.
+ctest --test-dir "$BUILD_DIR" --output-on-failure --timeout 900 "$@"
