@@ -1,0 +1,51 @@
+// perturb_sequence on the shared real sequences (label `data`): EuRoC MH_01 subset and KITTI 01 subset.
+#include <fstream>
+#include <iterator>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "common/test_support.hpp"
+#include "tools/synth/perturb.hpp"
+
+namespace vkvo::synth {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string bytes_of(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+double mean_of(const fs::path& image) { return cv::mean(cv::imread(image.string(), cv::IMREAD_UNCHANGED))[0]; }
+
+TEST(PerturbData, EurocLightsOffKeepsCalibrationAndTimestamps) {
+  VKVO_REQUIRE_DATA(euroc, "datasets/euroc_mh01_subset/MH_01_easy");
+  const fs::path dst = vkvo::test::temp_dir("synth_perturb_euroc") / "MH_01_easy";
+  perturb_sequence(euroc, dst, parse_events({"lights_off:60-61", "spotlight:100-110"}));
+  for (const char* f : {"mav0/cam0/data.csv", "mav0/cam1/data.csv", "mav0/cam0/sensor.yaml", "mav0/cam1/sensor.yaml",
+                        "mav0/body.yaml", "mav0/leica0/data.csv"})
+    EXPECT_EQ(bytes_of(euroc / f), bytes_of(dst / f)) << f;
+  const StereoImageLists lists = find_stereo_images(euroc);
+  ASSERT_EQ(lists.left.size(), 130u);
+  const fs::path off = fs::path("mav0/cam0") / lists.left[60];
+  EXPECT_NEAR(mean_of(dst / off), 0.02 * mean_of(euroc / off), 0.6);
+  const fs::path untouched = fs::path("mav0/cam1") / lists.right[59];
+  EXPECT_EQ(bytes_of(euroc / untouched), bytes_of(dst / untouched));
+}
+
+TEST(PerturbData, KittiOverexposureClips) {
+  VKVO_REQUIRE_DATA(kitti, "datasets/kitti_seq01_f000-050/KITTI_sequence_2");
+  const fs::path dst = vkvo::test::temp_dir("synth_perturb_kitti_data") / "seq";
+  perturb_sequence(kitti, dst, parse_events({"overexposure:10-12,gain=4,ramp=0"}));
+  EXPECT_EQ(bytes_of(kitti / "calib.txt"), bytes_of(dst / "calib.txt"));
+  EXPECT_EQ(bytes_of(kitti / "poses.txt"), bytes_of(dst / "poses.txt"));
+  const cv::Mat bright = cv::imread((dst / "image_l/000011.png").string(), cv::IMREAD_GRAYSCALE);
+  const cv::Mat original = cv::imread((kitti / "image_l/000011.png").string(), cv::IMREAD_GRAYSCALE);
+  EXPECT_GT(cv::countNonZero(bright == 255), 4 * std::max(1, cv::countNonZero(original == 255)));
+  EXPECT_EQ(bytes_of(kitti / "image_r/000009.png"), bytes_of(dst / "image_r/000009.png"));
+}
+
+}  // namespace
+}  // namespace vkvo::synth
