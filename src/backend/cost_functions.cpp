@@ -4,6 +4,7 @@
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/autodiff_manifold.h>
 #include <ceres/numeric_diff_cost_function.h>
+#include <ceres/product_manifold.h>
 #include <ceres/rotation.h>
 
 namespace vkvo::backend {
@@ -34,7 +35,9 @@ struct PointResidual {
   PointMeasurement m;
 
   template <typename T>
-  bool operator()(const T* q, const T* t, const T* X, T* r) const {
+  bool operator()(const T* pose, const T* X, T* r) const {
+    const T* q = pose;
+    const T* t = pose + 4;
     Vec3<T> p;
     world_to_camera_rotation(q, Vec3<T>(X[0], X[1], X[2]), p);
     p += Vec3<T>(t[0], t[1], t[2]);
@@ -65,7 +68,9 @@ struct LineResidual {
   LineMeasurement m;
 
   template <typename T>
-  bool operator()(const T* q, const T* t, const T* L, T* r) const {
+  bool operator()(const T* pose, const T* L, T* r) const {
+    const T* q = pose;
+    const T* t = pose + 4;
     // Pluecker transform world -> camera (eq. 7): n_c = R n + [t]x R v, v_c = R v.
     Vec3<T> Rn, v_c;
     world_to_camera_rotation(q, Vec3<T>(L[0], L[1], L[2]), Rn);
@@ -130,12 +135,12 @@ struct OrthonormalLinePlus {
 
 template <typename Functor, int kResiduals, int kModelSize>
 std::unique_ptr<ceres::CostFunction> autodiff(Functor f) {
-  return std::make_unique<ceres::AutoDiffCostFunction<Functor, kResiduals, 4, 3, kModelSize>>(new Functor(f));
+  return std::make_unique<ceres::AutoDiffCostFunction<Functor, kResiduals, 7, kModelSize>>(new Functor(f));
 }
 
 template <typename Functor, int kResiduals, int kModelSize>
 std::unique_ptr<ceres::CostFunction> numeric(Functor f) {
-  return std::make_unique<ceres::NumericDiffCostFunction<Functor, ceres::CENTRAL, kResiduals, 4, 3, kModelSize>>(
+  return std::make_unique<ceres::NumericDiffCostFunction<Functor, ceres::CENTRAL, kResiduals, 7, kModelSize>>(
       new Functor(f));
 }
 
@@ -173,18 +178,22 @@ std::unique_ptr<ceres::Manifold> make_line_manifold() {
   return std::make_unique<ceres::AutoDiffManifold<OrthonormalLinePlus, 6, 4>>();
 }
 
+std::unique_ptr<ceres::Manifold> make_pose_manifold() {
+  return std::make_unique<ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>>();
+}
+
 PoseBlock PoseBlock::from_T_world_camera(const Eigen::Isometry3d& T_world_camera) {
   const Eigen::Isometry3d T_cw = T_world_camera.inverse();
   PoseBlock b;
-  Eigen::Map<Eigen::Quaterniond>(b.q) = Eigen::Quaterniond(T_cw.linear()).normalized();
-  Eigen::Map<Eigen::Vector3d>(b.t) = T_cw.translation();
+  Eigen::Map<Eigen::Quaterniond>(b.x) = Eigen::Quaterniond(T_cw.linear()).normalized();
+  Eigen::Map<Eigen::Vector3d>(b.x + 4) = T_cw.translation();
   return b;
 }
 
 Eigen::Isometry3d PoseBlock::T_world_camera() const {
   Eigen::Isometry3d T_cw = Eigen::Isometry3d::Identity();
-  T_cw.linear() = Eigen::Map<const Eigen::Quaterniond>(q).normalized().toRotationMatrix();
-  T_cw.translation() = Eigen::Map<const Eigen::Vector3d>(t);
+  T_cw.linear() = Eigen::Map<const Eigen::Quaterniond>(x).normalized().toRotationMatrix();
+  T_cw.translation() = Eigen::Map<const Eigen::Vector3d>(x + 4);
   return T_cw.inverse();
 }
 

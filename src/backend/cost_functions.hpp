@@ -3,7 +3,7 @@
 // cost_functions.cpp so that one translation unit pays for their instantiation).
 //
 // Parameter blocks (all double):
-//   pose:  q_camera_world[4] (Eigen order x, y, z, w; EigenQuaternionManifold), t_camera_world[3]
+//   pose:  [q_camera_world (Eigen order x, y, z, w), t_camera_world] = 7 doubles, make_pose_manifold() (6-DoF)
 //   point: X_world[3]
 //   line:  Pluecker (n, v)_world[6] with the 4-DoF orthonormal manifold (make_line_manifold)
 // Residuals are whitened (divided by the pixel sigma), so |r|^2 is the chi-square statistic of the config.
@@ -49,10 +49,14 @@ std::unique_ptr<ceres::CostFunction> make_numeric_line_cost(const geometry::Ster
 // |v| = 1. Minus is its inverse for nearby lines of the same orientation.
 std::unique_ptr<ceres::Manifold> make_line_manifold();
 
+// SE(3) as quaternion x translation (ceres::ProductManifold of EigenQuaternionManifold and EuclideanManifold<3>).
+// One 7-double block per pose keeps the Schur complement's camera blocks whole.
+std::unique_ptr<ceres::Manifold> make_pose_manifold();
+
 // Pose parameter block storage (T_camera_world) and conversions from / to T_world_camera.
 struct PoseBlock {
-  double q[4] = {0, 0, 0, 1};
-  double t[3] = {0, 0, 0};
+  double x[7] = {0, 0, 0, 1, 0, 0, 0};  // qx qy qz qw tx ty tz
+  double* data() { return x; }
   static PoseBlock from_T_world_camera(const Eigen::Isometry3d& T_world_camera);
   Eigen::Isometry3d T_world_camera() const;
 };

@@ -78,7 +78,7 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  ceres::EigenQuaternionManifold quaternion_manifold;
+  const std::unique_ptr<ceres::Manifold> pose_manifold = make_pose_manifold();
   const std::unique_ptr<ceres::Manifold> line_manifold = make_line_manifold();
   ceres::HuberLoss mono_point_loss(std::sqrt(params.mono_point_chi2));
   ceres::HuberLoss stereo_point_loss(std::sqrt(params.stereo_point_chi2));
@@ -87,14 +87,9 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
 
   for (auto& [id, pose] : vars.poses) {
-    problem.AddParameterBlock(pose.q, 4, &quaternion_manifold);
-    problem.AddParameterBlock(pose.t, 3);
-    ordering->AddElementToGroup(pose.q, 1);
-    ordering->AddElementToGroup(pose.t, 1);
-    if (fixed.count(id)) {
-      problem.SetParameterBlockConstant(pose.q);
-      problem.SetParameterBlockConstant(pose.t);
-    }
+    problem.AddParameterBlock(pose.data(), 7, pose_manifold.get());
+    ordering->AddElementToGroup(pose.data(), 1);
+    if (fixed.count(id)) problem.SetParameterBlockConstant(pose.data());
   }
 
   std::vector<Observation> observations;
@@ -113,8 +108,7 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
       const PointMeasurement m{kf.keypoints[index], kf.right_x[index]};
       obs.chi2_threshold = m.stereo() ? params.stereo_point_chi2 : params.mono_point_chi2;
       obs.block = problem.AddResidualBlock(make_point_cost(stereo, m, params.pixel_sigma).release(),
-                                           m.stereo() ? &stereo_point_loss : &mono_point_loss, pose.q, pose.t,
-                                           X.data());
+                                           m.stereo() ? &stereo_point_loss : &mono_point_loss, pose.data(), X.data());
       observations.push_back(obs);
       ++result.point_observations;
     }
@@ -128,8 +122,7 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
       PoseBlock& pose = vars.poses.at(kf_id);
       Observation obs{nullptr, id, kf_id, true, m.stereo() ? params.stereo_line_chi2 : params.mono_line_chi2, false};
       obs.block = problem.AddResidualBlock(make_line_cost(stereo, m, params.pixel_sigma).release(),
-                                           m.stereo() ? &stereo_line_loss : &mono_line_loss, pose.q, pose.t,
-                                           L.data());
+                                           m.stereo() ? &stereo_line_loss : &mono_line_loss, pose.data(), L.data());
       observations.push_back(obs);
       ++result.line_observations;
     }
@@ -149,11 +142,14 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
     result.final_cost = summary.final_cost;
     result.solved = summary.IsSolutionUsable();
     // Outliers leave the problem before the next round and the map after the last.
+    int removed = 0;
     for (auto& obs : observations) {
       if (obs.outlier || unrobust_chi2(problem, obs.block) <= obs.chi2_threshold) continue;
       obs.outlier = true;
       if (round + 1 < params.ba_rounds) problem.RemoveResidualBlock(obs.block);
+      ++removed;
     }
+    if (removed == 0) break;  // another round would solve the same problem again
   }
   if (!result.solved) return result;
 

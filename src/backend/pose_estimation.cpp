@@ -24,7 +24,7 @@ struct Residual {
 
 // Whitened squared residual, +inf where the residual cannot be evaluated (point behind the camera).
 double chi2(const Residual& r, PoseBlock& pose) {
-  double* blocks[3] = {pose.q, pose.t, r.landmark};
+  double* blocks[2] = {pose.data(), r.landmark};
   double res[4];
   if (!r.cost->Evaluate(blocks, res, nullptr)) return std::numeric_limits<double>::infinity();
   double sum = 0;
@@ -116,7 +116,7 @@ PoseEstimate estimate_pose(const geometry::StereoCamera& stereo, const Eigen::Is
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::EigenQuaternionManifold quaternion_manifold;
+  const std::unique_ptr<ceres::Manifold> pose_manifold = make_pose_manifold();
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_QR;
   solver_options.max_num_iterations = params.pose_iterations;
@@ -125,13 +125,12 @@ PoseEstimate estimate_pose(const geometry::StereoCamera& stereo, const Eigen::Is
 
   for (int round = 0; round < params.pose_rounds; ++round) {
     ceres::Problem problem(problem_options);
-    problem.AddParameterBlock(pose.q, 4, &quaternion_manifold);
-    problem.AddParameterBlock(pose.t, 3);
+    problem.AddParameterBlock(pose.data(), 7, pose_manifold.get());
     int used = 0;
     auto add = [&](std::vector<Residual>& residuals, const std::vector<bool>& inliers) {
       for (size_t i = 0; i < residuals.size(); ++i) {
         if (!inliers[i]) continue;
-        problem.AddResidualBlock(residuals[i].cost.get(), residuals[i].loss.get(), pose.q, pose.t,
+        problem.AddResidualBlock(residuals[i].cost.get(), residuals[i].loss.get(), pose.data(),
                                  residuals[i].landmark);
         problem.SetParameterBlockConstant(residuals[i].landmark);
         ++used;

@@ -12,7 +12,7 @@ namespace {
 
 using test::scene_camera;
 
-// Evaluates residuals and Jacobians (row-major, one per block) of a 3-block cost function.
+// Evaluates residuals and Jacobians (row-major, one per block) of a cost function.
 struct Eval {
   std::vector<double> r;
   std::vector<std::vector<double>> J;
@@ -48,7 +48,7 @@ TEST(CostFunctions, PointResidualsAndDerivatives) {
     const Eigen::Vector3d X = T_wc * Eigen::Vector3d(0.4 * (trial % 5) - 0.8, 0.3, 3.0 + 0.2 * trial);
     PoseBlock pose = PoseBlock::from_T_world_camera(T_wc);
     Eigen::Vector3d Xb = X;
-    double* blocks[3] = {pose.q, pose.t, Xb.data()};
+    double* blocks[2] = {pose.data(), Xb.data()};
     const Eigen::Vector3d p = T_wc.inverse() * X;
     const Eigen::Vector2d px = stereo.camera.project(p) + Eigen::Vector2d(0.8, -0.4);
     for (const bool is_stereo : {false, true}) {
@@ -75,7 +75,7 @@ TEST(CostFunctions, LineResidualsAndDerivatives) {
     const geometry::PlueckerLine L = geometry::PlueckerLine::from_points(T_wc * A, T_wc * B);
     PoseBlock pose = PoseBlock::from_T_world_camera(T_wc);
     Eigen::Matrix<double, 6, 1> Lb = L.vector();
-    double* blocks[3] = {pose.q, pose.t, Lb.data()};
+    double* blocks[2] = {pose.data(), Lb.data()};
     // Observed endpoints: on the true projection, then moved 1 px along the image normal of the line.
     const Eigen::Vector2d a = stereo.camera.project(A), b = stereo.camera.project(B);
     const Eigen::Vector2d normal = Eigen::Vector2d(a.y() - b.y(), b.x() - a.x()).normalized();
@@ -142,7 +142,7 @@ TEST(CostFunctions, PoseBlockRoundTrip) {
   const PoseBlock b = PoseBlock::from_T_world_camera(T);
   EXPECT_LT((b.T_world_camera().matrix() - T.matrix()).norm(), 1e-12);
   const Eigen::Vector3d X(1, 2, 3);
-  const Eigen::Vector3d p = Eigen::Map<const Eigen::Quaterniond>(b.q) * X + Eigen::Map<const Eigen::Vector3d>(b.t);
+  const Eigen::Vector3d p = Eigen::Map<const Eigen::Quaterniond>(b.x) * X + Eigen::Map<const Eigen::Vector3d>(b.x + 4);
   EXPECT_LT((p - T.inverse() * X).norm(), 1e-12);
 }
 
