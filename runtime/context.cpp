@@ -345,17 +345,28 @@ std::optional<std::uint32_t> Context::find_memory_type(std::uint32_t type_bits,
 }
 
 void Context::run_once(const std::function<void(const vk::raii::CommandBuffer&)>& record) const {
+  const vk::raii::Fence fence(device_, vk::FenceCreateInfo{});
+  std::lock_guard lock(queue_mutex_);  // the transient pool is shared too
   vk::raii::CommandBuffers buffers(device_, {.commandPool = *transfer_pool_, .level = vk::CommandBufferLevel::ePrimary,
                                              .commandBufferCount = 1});
   const auto& cmd = buffers[0];
   cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
   record(cmd);
   cmd.end();
-  const vk::raii::Fence fence(device_, vk::FenceCreateInfo{});
   const vk::CommandBuffer handle = *cmd;
   queue_.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &handle}, *fence);
   if (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess)
     throw VulkanError("waiting for a transfer failed");
+}
+
+void Context::submit_and_wait(vk::CommandBuffer commands, const vk::raii::Fence& fence) const {
+  device_.resetFences(*fence);
+  {
+    std::lock_guard lock(queue_mutex_);
+    queue_.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &commands}, *fence);
+  }
+  if (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess)
+    throw VulkanError("waiting for a command sequence failed");
 }
 
 }  // namespace vkvo::rt

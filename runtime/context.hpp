@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -93,6 +94,10 @@ class Context {
   // Runs `record` in a one-time command buffer and waits for it (uploads/downloads through staging).
   void run_once(const std::function<void(const vk::raii::CommandBuffer&)>& record) const;
 
+  // Submits one command buffer and waits for `fence`. Thread-safe: Vulkan queues need external
+  // synchronisation, and the VO's feature and optimisation stages both run networks.
+  void submit_and_wait(vk::CommandBuffer commands, const vk::raii::Fence& fence) const;
+
   // Writes the pipeline cache to disk now (also done by the destructor).
   void save_pipeline_cache() const;
 
@@ -109,6 +114,7 @@ class Context {
   DeviceCaps caps_;
   bool validation_enabled_ = false;
   std::filesystem::path cache_file_;
+  mutable std::mutex queue_mutex_;   // guards queue_ and transfer_pool_
 };
 
 }  // namespace vkvo::rt

@@ -169,11 +169,7 @@ void Sequence::end() {
 
 void Sequence::submit() {
   if (!recorded_) throw VulkanError("Sequence::submit before end()");
-  const vk::CommandBuffer handle = *cmd_;
-  context_->device().resetFences(*fence_);
-  context_->queue().submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &handle}, *fence_);
-  if (context_->device().waitForFences(*fence_, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess)
-    throw VulkanError("waiting for a command sequence failed");
+  context_->submit_and_wait(*cmd_, fence_);
   if (max_queries_) {
     const auto count = static_cast<std::uint32_t>(std::min<std::size_t>(labels_.size() + 1, max_queries_));
     auto [result, values] = queries_.getResults<std::uint64_t>(0, count, count * sizeof(std::uint64_t),

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "app/bench_registry.hpp"
 #include "app/command.hpp"
 #include "app/kernel_bench.hpp"
 #include "runtime/context.hpp"
@@ -16,6 +17,9 @@ struct Options {
   int repeat = 10;
   std::vector<std::string> precisions;
   std::string device;
+  std::string model;
+  bool kernels = false;
+  std::vector<std::string> networks;  // names of the --<network> flags given
 };
 
 int run(const Options& options) {
@@ -33,15 +37,23 @@ int run(const Options& options) {
   if (precisions.empty())
     for (auto p : vkvo::rt::kAllPrecisions)
       if (caps.supports(p)) precisions.push_back(p);
-  vkvo::app::print_bench_header();
-  for (auto p : precisions) {
-    if (!caps.supports(p)) {
-      fmt::print("{:<34} {:<6} unsupported on this device\n", "(all)", vkvo::rt::to_string(p));
-      continue;
-    }
-    for (const auto& result : vkvo::app::bench_kernels(context, p, options.repeat)) vkvo::app::print_bench_row(result);
+  std::erase_if(precisions, [&](vkvo::rt::Precision p) {
+    if (caps.supports(p)) return false;
+    fmt::print("precision {} is not supported on this device: skipped\n", vkvo::rt::to_string(p));
+    return true;
+  });
+  if (precisions.empty()) return 1;
+  int status = 0;
+  if (options.kernels || options.networks.empty()) {
+    vkvo::app::print_bench_header();
+    for (auto p : precisions)
+      for (const auto& result : vkvo::app::bench_kernels(context, p, options.repeat)) vkvo::app::print_bench_row(result);
   }
-  return 0;
+  const vkvo::app::BenchOptions bench_options{options.repeat, precisions, options.model};
+  for (const auto& bench : vkvo::app::network_bench_registry())
+    if (std::find(options.networks.begin(), options.networks.end(), bench.name) != options.networks.end())
+      status |= bench.run(context, bench_options);
+  return status;
 }
 
 vkvo::app::CommandRegistration registration{
@@ -50,6 +62,11 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--repeat", options->repeat, "timed submissions per kernel")->check(CLI::PositiveNumber);
        sub.add_option("--precision", options->precisions, "fp32, fp16s and/or fp16 (default: all supported)");
        sub.add_option("--device", options->device, "device index or name substring (default: $VKVO_DEVICE or best)");
+       sub.add_option("--model", options->model, "model pack for the network benchmarks");
+       sub.add_flag("--kernels", options->kernels, "the single-kernel table (default when no network is named)");
+       for (const auto& bench : vkvo::app::network_bench_registry())
+         sub.add_flag_callback("--" + bench.name, [options, name = bench.name] { options->networks.push_back(name); },
+                               bench.description);
        return std::function<int()>([options] { return run(*options); });
      }}};
 

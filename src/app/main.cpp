@@ -5,11 +5,16 @@
 
 #include <spdlog/spdlog.h>
 
+#include "app/bench_registry.hpp"
 #include "app/command.hpp"
 
 namespace vkvo::app {
 std::vector<Command>& command_registry() {
   static std::vector<Command> registry;
+  return registry;
+}
+std::vector<NetworkBench>& network_bench_registry() {
+  static std::vector<NetworkBench> registry;
   return registry;
 }
 }  // namespace vkvo::app

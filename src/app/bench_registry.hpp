@@ -1,0 +1,29 @@
+#pragma once
+// Benchmarks of whole networks for `vkvo bench --<name>`: each src/app/bench_<name>.cpp registers one.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "runtime/context.hpp"
+
+namespace vkvo::app {
+
+struct BenchOptions {
+  int repeat = 10;
+  std::vector<rt::Precision> precisions;  // supported by the device; never empty
+  std::string model;                      // --model PACK where the bench needs weights
+};
+
+struct NetworkBench {
+  std::string name;         // flag: --<name>
+  std::string description;
+  std::function<int(const rt::Context&, const BenchOptions&)> run;
+};
+
+std::vector<NetworkBench>& network_bench_registry();
+
+struct NetworkBenchRegistration {
+  explicit NetworkBenchRegistration(NetworkBench bench) { network_bench_registry().push_back(std::move(bench)); }
+};
+
+}  // namespace vkvo::app
