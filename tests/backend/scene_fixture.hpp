@@ -9,6 +9,7 @@
 
 #include "geometry/camera.hpp"
 #include "geometry/line3d.hpp"
+#include "geometry/scene.hpp"  // tests/geometry: test_stereo_camera
 #include "map/map.hpp"
 
 namespace vkvo::test {
@@ -35,12 +36,8 @@ struct Scene {
   std::vector<std::vector<LineObs>> line_obs;
 };
 
-inline geometry::StereoCamera scene_camera() {
-  geometry::StereoCamera s;
-  s.camera = {458.0, 451.0, 367.5, 248.0, 752, 480};
-  s.baseline = 0.11;
-  return s;
-}
+// The geometry tests' camera (fx != fy on purpose).
+inline geometry::StereoCamera scene_camera() { return test_stereo_camera(); }
 
 inline Eigen::Isometry3d scene_pose(int k, double step) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -88,8 +85,9 @@ inline Scene make_scene(const SceneSpec& spec) {
       const Eigen::Vector2d la = cam.project(A), lb = cam.project(B);
       const Eigen::Vector2d ra = s.stereo.project_right(A), rb = s.stereo.project_right(B);
       if (!cam.in_image(la, 5) || !cam.in_image(lb, 5) || (la - lb).norm() < 20) continue;
-      Scene::LineObs obs{j, geometry::Segment2d(la.x() + jitter(), la.y() + jitter(), lb.x() + jitter(), lb.y() + jitter()),
-                         std::nullopt};
+      Scene::LineObs obs{
+          j, geometry::Segment2d(la.x() + jitter(), la.y() + jitter(), lb.x() + jitter(), lb.y() + jitter()),
+          std::nullopt};
       if (u01(rng) < spec.stereo_fraction && cam.in_image(ra, 5) && cam.in_image(rb, 5))
         obs.right = geometry::Segment2d(ra.x() + jitter(), ra.y() + jitter(), rb.x() + jitter(), rb.y() + jitter());
       s.line_obs[k].push_back(obs);
