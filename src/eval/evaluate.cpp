@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "eval/association.hpp"
+#include "io/config.hpp"
 
 namespace vkvo::eval {
 
@@ -17,6 +18,22 @@ std::string time_range(const io::Trajectory& trajectory) {
   return fmt::format("{:.3f} .. {:.3f} s ({} poses)", first->t, last->t, trajectory.size());
 }
 }  // namespace
+
+EvalOptions load_eval_options(const YAML::Node& section) {
+  EvalOptions options;
+  const auto align = io::param<std::string>(section, "align", to_string(options.alignment));
+  try {
+    options.alignment = parse_alignment_mode(align);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(fmt::format("config key 'align': {}", e.what()));
+  }
+  io::read_param(section, "max_dt_s", options.max_dt_s);
+  io::read_param(section, "rpe_lengths_m", options.rpe.lengths_m);
+  const long step = io::param<long>(section, "rpe_step", 1);
+  if (step < 1) throw std::runtime_error("config key 'rpe_step': must be >= 1");
+  options.rpe.step = static_cast<std::size_t>(step);
+  return options;
+}
 
 EvaluationResult evaluate(const io::Trajectory& estimate, const io::Trajectory& groundtruth, const EvalOptions& options) {
   EvaluationResult result;

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include "eval/alignment.hpp"
 #include "eval/metrics.hpp"
@@ -17,6 +18,10 @@ struct EvalOptions {
   double max_dt_s = 0.02;  // association tolerance
   RpeOptions rpe;
 };
+
+// Reads an `eval:` config section: align (none|se3|sim3, "se3"), max_dt_s (0.02), rpe_lengths_m ([] = 10..50 %
+// of the path length), rpe_step (1). Wrong types or an unknown alignment throw naming the key.
+EvalOptions load_eval_options(const YAML::Node& section);
 
 struct EvaluationResult {
   std::size_t estimate_poses = 0;

@@ -1,5 +1,6 @@
 #include "io/dataset.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -19,6 +20,23 @@ const char* to_string(DatasetKind kind) {
     case DatasetKind::kitti: return "kitti";
   }
   return "unknown";
+}
+
+DatasetOptions load_dataset_options(const YAML::Node& dataset_section, const YAML::Node& camera_section) {
+  DatasetOptions options;
+  const long first = param<long>(dataset_section, "first_frame", 0);
+  const long last = param<long>(dataset_section, "last_frame", -1);
+  const long stride = param<long>(dataset_section, "stride", 1);
+  if (first < 0) throw std::runtime_error("config key 'first_frame': must be >= 0");
+  if (stride < 1) throw std::runtime_error("config key 'stride': must be >= 1");
+  options.range.first = static_cast<std::size_t>(first);
+  if (last >= 0) options.range.last = static_cast<std::size_t>(last);
+  options.range.stride = static_cast<std::size_t>(stride);
+  const double max_dt_ms = param<double>(dataset_section, "max_stereo_dt_ms", 1.0);
+  if (!(max_dt_ms >= 0)) throw std::runtime_error("config key 'max_stereo_dt_ms': must be >= 0");
+  options.max_stereo_dt_ns = static_cast<std::int64_t>(std::llround(max_dt_ms * 1e6));
+  options.camera_overrides = camera_section;
+  return options;
 }
 
 const StereoFrame& StereoDataset::frame(std::size_t i) const {

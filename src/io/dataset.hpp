@@ -48,6 +48,10 @@ struct DatasetOptions {
   std::int64_t max_stereo_dt_ns = 1'000'000;
 };
 
+// Reads a `dataset:` config section: first_frame (0), last_frame (-1 = to the end, inclusive), stride (1),
+// max_stereo_dt_ms (1.0). `camera` is the `camera:` section kept as overrides (may be empty).
+DatasetOptions load_dataset_options(const YAML::Node& dataset_section, const YAML::Node& camera_section = {});
+
 class StereoDataset {
  public:
   virtual ~StereoDataset() = default;

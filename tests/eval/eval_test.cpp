@@ -262,3 +262,19 @@ TEST(Report, JsonAndTableCarryTheNumbers) {
   EXPECT_NE(table.find("ATE trans [m]"), std::string::npos);
   EXPECT_NE(table.find("100 associated"), std::string::npos);
 }
+
+TEST(Report, OptionsFromConfigSection) {
+  const auto options = eval::load_eval_options(
+      YAML::Load("align: sim3\nmax_dt_s: 0.005\nrpe_lengths_m: [1.5, 3]\nrpe_step: 10\n"));
+  EXPECT_EQ(options.alignment, eval::AlignmentMode::sim3);
+  EXPECT_DOUBLE_EQ(options.max_dt_s, 0.005);
+  EXPECT_EQ(options.rpe.lengths_m, (std::vector<double>{1.5, 3.0}));
+  EXPECT_EQ(options.rpe.step, 10u);
+  EXPECT_EQ(eval::load_eval_options(YAML::Node()).alignment, eval::AlignmentMode::se3);
+  try {
+    eval::load_eval_options(YAML::Load("align: affine"));
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("'align'"), std::string::npos) << e.what();
+  }
+}

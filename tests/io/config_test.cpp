@@ -5,6 +5,7 @@
 
 #include "common/test_support.hpp"
 #include "io/config.hpp"
+#include "io/dataset.hpp"
 
 using namespace vkvo;
 
@@ -92,4 +93,21 @@ TEST(CameraOverrides, TransformAndErrors) {
   io::StereoCalibration no_baseline = io::apply_camera_overrides(
       YAML::Load("{width: 10, height: 10, fx: 5, fy: 5, cx: 5, cy: 5}"), {});
   EXPECT_NE(error_of([&] { io::validate_calibration(no_baseline, "x"); }).find("baseline"), std::string::npos);
+}
+
+TEST(DatasetOptions, FromConfigSection) {
+  const auto config = io::Config::from_string(
+      "dataset:\n  first_frame: 10\n  last_frame: 99\n  stride: 3\n  max_stereo_dt_ms: 2.5\ncamera:\n  fx: 7\n");
+  const auto options = io::load_dataset_options(config.section("dataset"), config.section("camera"));
+  EXPECT_EQ(options.range.first, 10u);
+  ASSERT_TRUE(options.range.last.has_value());
+  EXPECT_EQ(*options.range.last, 99u);
+  EXPECT_EQ(options.range.stride, 3u);
+  EXPECT_EQ(options.max_stereo_dt_ns, 2'500'000);
+  EXPECT_EQ(io::param<double>(options.camera_overrides, "fx", 0.0), 7.0);
+  const auto defaults = io::load_dataset_options(YAML::Node());
+  EXPECT_EQ(defaults.range.first, 0u);
+  EXPECT_FALSE(defaults.range.last.has_value());
+  EXPECT_EQ(defaults.range.stride, 1u);
+  EXPECT_NE(error_of([] { io::load_dataset_options(YAML::Load("stride: 0")); }).find("'stride'"), std::string::npos);
 }
