@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -12,23 +11,14 @@
 #include <gtest/gtest.h>
 
 #include "common/test_support.hpp"
+#include "convert/convert_test_support.hpp"
 #include "io/model_pack.hpp"
 #include "runtime/tensor_layout.hpp"
 
 namespace vkvo::io {
 namespace {
 
-// Runs `action`, expecting a std::runtime_error whose message contains every one of `parts`.
-void expect_error(const std::function<void()>& action, const std::vector<std::string>& parts) {
-  try {
-    action();
-  } catch (const std::runtime_error& e) {
-    const std::string message = e.what();
-    for (const auto& part : parts) EXPECT_NE(message.find(part), std::string::npos) << "message: " << message;
-    return;
-  }
-  ADD_FAILURE() << "no std::runtime_error thrown";
-}
+using convert::test::expect_error;
 
 std::vector<float> random_values(std::size_t count, unsigned seed) {
   std::mt19937 rng(seed);

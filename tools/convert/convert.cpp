@@ -10,9 +10,9 @@ namespace vkvo::convert {
 io::NetworkKind detect_network(const OnnxGraph& graph) {
   std::size_t conv2d = 0, conv1d = 0;
   for (const onnx::NodeProto* conv : graph.nodes_of_type("Conv")) {
-    const auto weight = graph.constant_floats(conv->input(1));
-    if (!weight) graph.fail(*conv, "convolution weight is not a constant");
-    (weight->dims.size() == 4 ? conv2d : conv1d) += 1;
+    const auto dims = conv->input_size() > 1 ? graph.constant_dims(conv->input(1)) : std::nullopt;
+    if (!dims) graph.fail(*conv, "convolution weight is not a constant");
+    (dims->size() == 4 ? conv2d : conv1d) += 1;
   }
   if (conv2d > 0 && conv1d == 0) return io::NetworkKind::superpoint;
   if (conv1d > 0 && conv2d == 0) return io::NetworkKind::superglue;

@@ -158,6 +158,12 @@ std::optional<FloatTensor> OnnxGraph::constant_floats(std::string_view value) co
   return out;
 }
 
+std::optional<std::vector<std::int64_t>> OnnxGraph::constant_dims(std::string_view value) const {
+  const onnx::TensorProto* t = constant_proto(value);
+  if (!t) return std::nullopt;
+  return std::vector<std::int64_t>(t->dims().begin(), t->dims().end());
+}
+
 std::optional<std::vector<std::int64_t>> OnnxGraph::constant_integers(std::string_view value) const {
   const onnx::TensorProto* t = constant_proto(value);
   if (!t) {

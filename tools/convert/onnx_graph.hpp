@@ -50,6 +50,8 @@ class OnnxGraph {
   // Constant tensors: from an initializer or a Constant node, through any chain of Identity nodes;
   // nullopt when the value is computed. Integer tensors may be int64 (the official export) or int32 (AirVO).
   std::optional<FloatTensor> constant_floats(std::string_view value) const;
+  // The dims of a constant tensor without decoding its values.
+  std::optional<std::vector<std::int64_t>> constant_dims(std::string_view value) const;
   std::optional<std::vector<std::int64_t>> constant_integers(std::string_view value) const;
   // A 1-D integer tensor assembled by Concat/Unsqueeze/Identity from constants; computed parts are kUnknownDim.
   std::optional<std::vector<std::int64_t>> folded_integers(std::string_view value) const;

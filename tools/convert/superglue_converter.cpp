@@ -242,8 +242,8 @@ io::ModelPackWriter convert_superglue(const OnnxGraph& graph) {
   // Keypoint encoders: the Conv1d chains that start from 3 channels [x, y, score], one per keypoint set.
   std::vector<const onnx::NodeProto*> starts;
   for (const onnx::NodeProto* conv : graph.nodes_of_type("Conv")) {
-    const auto weight = graph.constant_floats(conv->input(1));
-    if (weight && weight->dims.size() == 3 && weight->dims[1] == 3) starts.push_back(conv);
+    const auto dims = conv->input_size() > 1 ? graph.constant_dims(conv->input(1)) : std::nullopt;
+    if (dims && dims->size() == 3 && (*dims)[1] == 3) starts.push_back(conv);
   }
   if (starts.size() != 2)
     graph.fail(fmt::format("SuperGlue needs two keypoint encoders (Conv1d chains from 3 input channels), found {}",
