@@ -43,7 +43,13 @@ TEST(PerturbData, KittiOverexposureClips) {
   EXPECT_EQ(bytes_of(kitti / "poses.txt"), bytes_of(dst / "poses.txt"));
   const cv::Mat bright = cv::imread((dst / "image_l/000011.png").string(), cv::IMREAD_GRAYSCALE);
   const cv::Mat original = cv::imread((kitti / "image_l/000011.png").string(), cv::IMREAD_GRAYSCALE);
-  EXPECT_GT(cv::countNonZero(bright == 255), 4 * std::max(1, cv::countNonZero(original == 255)));
+  // KITTI 01 already saturates its sky (~13% of the pixels); x4 exposure clips a large part of the road too.
+  const double clipped = cv::countNonZero(bright == 255) / static_cast<double>(bright.total());
+  const double clipped_before = cv::countNonZero(original == 255) / static_cast<double>(original.total());
+  EXPECT_GT(clipped, 0.35);
+  EXPECT_GT(clipped, 3 * clipped_before);
+  const cv::Mat dark = original < 60;  // x4 stays below 255: exact gain up to rounding
+  EXPECT_NEAR(cv::mean(bright, dark)[0] / cv::mean(original, dark)[0], 4.0, 0.02);
   EXPECT_EQ(bytes_of(kitti / "image_r/000009.png"), bytes_of(dst / "image_r/000009.png"));
 }
 

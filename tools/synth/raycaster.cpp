@@ -95,7 +95,7 @@ class View {
     // Pixel footprint on the surface, sqrt of its area: depth / f, stretched by 1 / sqrt(cos incidence) (dir has
     // unit camera-z, so |dir[axis]| is cos(incidence) / cos(off-axis angle), which keeps fronto-parallel exact).
     const float footprint = hit.t * inv_fx_ * Texture::inv_sqrt(std::max(std::abs(r.dir[axis]), 0.02f));
-    const Eigen::Vector2f uv = face_uv(bounds, hit.face, p);
+    const Eigen::Vector2f uv = face_uv(bounds, hit.face, room, p);
     const float albedo = scene_.textures[texture].sample(uv.x(), uv.y(), footprint);
 
     // Soft point lights: I * (n . d) * F / (|d|^2 + F^2) with d to the light: cosine law, bounded near the lamp,
@@ -173,7 +173,7 @@ void for_rows(int rows, bool parallel, const std::function<void(int, int)>& body
     body(0, rows);
     return;
   }
-  cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& r) { body(r.start, r.end); }, rows / 8.0);
+  cv::parallel_for_(cv::Range(0, rows), [&](const cv::Range& r) { body(r.start, r.end); });
 }
 
 }  // namespace
@@ -185,17 +185,26 @@ void RayCaster::render(const PinholeCamera& camera, const Eigen::Isometry3d& T_w
   if (depth) depth->create(camera.height, camera.width, CV_32F);
   cv::Mat ids(camera.height, camera.width, CV_32S);
 
-  for_rows(camera.height, options.parallel, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y) {
-      float* out = radiance.ptr<float>(y);
-      int* id = ids.ptr<int>(y);
-      float* z = depth ? depth->ptr<float>(y) : nullptr;
-      for (int x = 0; x < camera.width; ++x) {
-        const Ray r = view.ray(static_cast<float>(x), static_cast<float>(y));
-        const Hit hit = view.trace(r, view.tile_of(x, y));
-        out[x] = view.shade(r, hit);
-        id[x] = hit.surface_id();
-        if (z) z[x] = hit.t;
+  // Tile by tile: neighbouring rays hit the same texels and the same box list, which keeps the caches warm.
+  const int tile_rows = (camera.height + kTile - 1) / kTile;
+  for_rows(tile_rows, options.parallel, [&](int ty0, int ty1) {
+    for (int ty = ty0; ty < ty1; ++ty) {
+      const int y_end = std::min(camera.height, (ty + 1) * kTile);
+      for (int x0 = 0; x0 < camera.width; x0 += kTile) {
+        const int x_end = std::min(camera.width, x0 + kTile);
+        const int tile = view.tile_of(x0, ty * kTile);
+        for (int y = ty * kTile; y < y_end; ++y) {
+          float* out = radiance.ptr<float>(y);
+          int* id = ids.ptr<int>(y);
+          float* z = depth ? depth->ptr<float>(y) : nullptr;
+          for (int x = x0; x < x_end; ++x) {
+            const Ray r = view.ray(static_cast<float>(x), static_cast<float>(y));
+            const Hit hit = view.trace(r, tile);
+            out[x] = view.shade(r, hit);
+            id[x] = hit.surface_id();
+            if (z) z[x] = hit.t;
+          }
+        }
       }
     }
   });

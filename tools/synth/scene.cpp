@@ -54,12 +54,12 @@ class RoomBuilder {
 
   // A point on wall `face` at surface coordinates (u, v), pushed `out` metres into the room.
   Eigen::Vector3f wall_point(int face, float u, float v, float out) const {
-    const FaceFrame f = face_frame(face);
+    const FaceFrame f = face_frame(face, true);
     Eigen::Vector3f p;
     const int axis = face / 2;
     const bool max_side = face % 2;
     p[axis] = max_side ? scene_.room.max()[axis] - out : scene_.room.min()[axis] + out;
-    p[f.u_axis] = scene_.room.min()[f.u_axis] + u;
+    p[f.u_axis] = f.u_flip ? scene_.room.max()[f.u_axis] - u : scene_.room.min()[f.u_axis] + u;
     p[f.v_axis] = scene_.room.max()[f.v_axis] - v;  // walls have v downward from the top
     return p;
   }

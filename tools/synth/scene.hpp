@@ -14,30 +14,37 @@
 namespace vkvo::synth {
 
 // Face f of an axis-aligned box: axis = f / 2, on the max side when f is odd. Surface (u, v) coordinates in metres
-// run along the two other axes: walls (normal x or y) have u horizontal and v downward from the top, so text on
-// them stands upright; floor and ceiling (normal z) have u = x - min.x, v = y - min.y.
+// run along the two other axes: on walls (normal x or y) u runs to the viewer's right and v down from the top, so
+// text painted on them reads correctly from the side they are seen from (inside the room, outside a box); floor
+// and ceiling (normal z) have u = x - min.x, v = y - min.y.
 struct FaceFrame {
   int u_axis, v_axis;
+  bool u_flip;  // u = max[u_axis] - p[u_axis] instead of p[u_axis] - min[u_axis]
   bool v_down;  // v = max[v_axis] - p[v_axis] instead of p[v_axis] - min[v_axis]
 };
-inline FaceFrame face_frame(int face) {
+
+// `from_inside`: the face is seen from inside the box (the room's walls).
+inline FaceFrame face_frame(int face, bool from_inside) {
+  // Seen from outside, the viewer's right runs towards -u on faces x = min (0) and y = max (3); from inside it is
+  // the other two walls.
+  const bool flip = (face == 0 || face == 3) != from_inside;
   switch (face / 2) {
-    case 0: return {1, 2, true};
-    case 1: return {0, 2, true};
-    default: return {0, 1, false};
+    case 0: return {1, 2, flip, true};
+    case 1: return {0, 2, flip, true};
+    default: return {0, 1, false, false};
   }
 }
 
 // (width along u, height along v), metres.
 inline Eigen::Vector2f face_extent(const Eigen::AlignedBox3f& box, int face) {
-  const FaceFrame f = face_frame(face);
+  const FaceFrame f = face_frame(face, false);
   const Eigen::Vector3f size = box.sizes();
   return {size[f.u_axis], size[f.v_axis]};
 }
 
-inline Eigen::Vector2f face_uv(const Eigen::AlignedBox3f& box, int face, const Eigen::Vector3f& p) {
-  const FaceFrame f = face_frame(face);
-  const float u = p[f.u_axis] - box.min()[f.u_axis];
+inline Eigen::Vector2f face_uv(const Eigen::AlignedBox3f& box, int face, bool from_inside, const Eigen::Vector3f& p) {
+  const FaceFrame f = face_frame(face, from_inside);
+  const float u = f.u_flip ? box.max()[f.u_axis] - p[f.u_axis] : p[f.u_axis] - box.min()[f.u_axis];
   const float v = f.v_down ? box.max()[f.v_axis] - p[f.v_axis] : p[f.v_axis] - box.min()[f.v_axis];
   return {u, v};
 }
