@@ -228,5 +228,36 @@ matching: {score_threshold: 0.7, shared_threshold: 2}
   EXPECT_NE(message_of("detector: {merge_stages: {max_angle: 1}}").find("merge_stages"), std::string::npos);
 }
 
+TEST(LineParams, ExampleConfigFileStatesTheDefaults) {
+  const auto file = test::source_dir() / "config" / "lines.yaml";
+  ASSERT_TRUE(std::filesystem::exists(file)) << file;
+  const LinePipelineParams loaded = load_line_pipeline_params(YAML::LoadFile(file.string())["lines"]);
+  const LinePipelineParams defaults;
+  EXPECT_EQ(loaded.detector.method, defaults.detector.method);
+  EXPECT_FLOAT_EQ(loaded.detector.scale, defaults.detector.scale);
+  EXPECT_EQ(loaded.detector.fld.length_threshold, defaults.detector.fld.length_threshold);
+  EXPECT_FLOAT_EQ(loaded.detector.fld.distance_threshold, defaults.detector.fld.distance_threshold);
+  EXPECT_DOUBLE_EQ(loaded.detector.fld.canny_threshold1, defaults.detector.fld.canny_threshold1);
+  EXPECT_DOUBLE_EQ(loaded.detector.fld.canny_threshold2, defaults.detector.fld.canny_threshold2);
+  EXPECT_EQ(loaded.detector.fld.canny_aperture, defaults.detector.fld.canny_aperture);
+  EXPECT_EQ(loaded.detector.lsd.refine, defaults.detector.lsd.refine);
+  ASSERT_EQ(loaded.detector.merge_stages.size(), defaults.detector.merge_stages.size());
+  for (size_t i = 0; i < loaded.detector.merge_stages.size(); ++i) {
+    const MergeStage& l = loaded.detector.merge_stages[i];
+    const MergeStage& d = defaults.detector.merge_stages[i];
+    EXPECT_FLOAT_EQ(l.merge.max_angle, d.merge.max_angle);
+    EXPECT_FLOAT_EQ(l.merge.max_midpoint_distance, d.merge.max_midpoint_distance);
+    EXPECT_FLOAT_EQ(l.merge.max_endpoint_gap, d.merge.max_endpoint_gap);
+    EXPECT_FLOAT_EQ(l.min_length_after, d.min_length_after);
+  }
+  EXPECT_FLOAT_EQ(loaded.detector.min_length, defaults.detector.min_length);
+  EXPECT_FLOAT_EQ(loaded.association.max_distance, defaults.association.max_distance);
+  EXPECT_FLOAT_EQ(loaded.association.extent_margin, defaults.association.extent_margin);
+  EXPECT_EQ(loaded.association.require_both_extents, defaults.association.require_both_extents);
+  EXPECT_FLOAT_EQ(loaded.association.grid_cell_size, defaults.association.grid_cell_size);
+  EXPECT_FLOAT_EQ(loaded.matching.score_threshold, defaults.matching.score_threshold);
+  EXPECT_EQ(loaded.matching.shared_threshold, defaults.matching.shared_threshold);
+}
+
 }  // namespace
 }  // namespace vkvo::features
