@@ -1,6 +1,6 @@
 #pragma once
 // Analytic ray caster for the axis-aligned scene: one ray per pixel through its centre (OpenCV convention:
-// pixel (u, v) sees direction ((u - cx) / fx, (v - cy) / fy, 1) in the camera frame), trilinear texture lookups
+// pixel (u, v) sees direction ((u - cx) / fx, (v - cy) / fy, 1) in the camera frame), mip-mapped texture lookups
 // over the pixel footprint, and 4 extra rays in the pixels on a depth or surface boundary (geometric anti-aliasing).
 // Boxes are culled per 16x16 tile by their projected bounds, so a pixel tests only the boxes that can cover it.
 #include <Eigen/Core>
