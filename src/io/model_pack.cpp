@@ -47,12 +47,22 @@ T get_at(std::span<const std::byte> bytes, std::size_t at) {
   return value;
 }
 
-// Checksum of a whole pack with the checksum field read as zero.
+// Checksum of a whole pack with the checksum field read as zero: eight interleaved FNV-1a lanes (lane j hashes
+// the bytes at positions = j mod 8), then FNV-1a over the eight lane states. The lanes are independent multiply
+// chains, which makes this several times faster than one byte-serial FNV-1a over tens of MB.
 std::uint64_t pack_checksum(std::span<const std::byte> file) {
-  const std::byte zeros[8] = {};
-  std::uint64_t h = fnv1a64(file.first(kChecksumAt));
-  h = fnv1a64(zeros, h);
-  return fnv1a64(file.subspan(kChecksumAt + 8), h);
+  constexpr std::uint64_t kPrime = 0x100000001b3ULL;
+  std::uint64_t lanes[8];
+  std::fill(std::begin(lanes), std::end(lanes), kFnvOffsetBasis);
+  auto byte_at = [&](std::size_t i) {
+    return i >= kChecksumAt && i < kChecksumAt + 8 ? std::uint64_t{0} : static_cast<std::uint64_t>(file[i]);
+  };
+  std::size_t i = 0;
+  for (; i < kChecksumAt + 8; ++i) lanes[i % 8] = (lanes[i % 8] ^ byte_at(i)) * kPrime;
+  for (; i + 8 <= file.size(); i += 8)
+    for (std::size_t j = 0; j < 8; ++j) lanes[j] = (lanes[j] ^ static_cast<std::uint64_t>(file[i + j])) * kPrime;
+  for (; i < file.size(); ++i) lanes[i % 8] = (lanes[i % 8] ^ static_cast<std::uint64_t>(file[i])) * kPrime;
+  return fnv1a64(std::as_bytes(std::span(lanes)));
 }
 
 // Bounds-checked reader over the metadata region; errors become "corrupt metadata" failures of the pack.

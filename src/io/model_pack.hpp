@@ -10,7 +10,8 @@
 //   data block   starts at a multiple of kPackAlignment in the file; every tensor starts at a multiple of
 //                kPackAlignment inside it, so one buffer upload of the block serves every tensor as a
 //                (buffer, offset) binding (256 is >= minStorageBufferOffsetAlignment on every Vulkan device).
-// The checksum is 64-bit FNV-1a over the whole file with the checksum field read as zero.
+// The checksum covers the whole file with the checksum field read as zero: 64-bit FNV-1a in eight interleaved
+// byte lanes (lane j takes the bytes at offsets = j mod 8), combined by FNV-1a over the eight lane states.
 //
 // Tensors are keyed by (logical name, dtype): every weight is stored once as fp32 and once as fp16 so that each
 // shader precision variant (fp32 / fp16-storage / fp16) finds its data ready. Shapes are the logical (PyTorch)
