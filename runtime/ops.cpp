@@ -1,5 +1,6 @@
 #include "runtime/ops.hpp"
 
+#include <initializer_list>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -23,9 +24,11 @@ struct PoolPush {
   std::uint32_t channels, in_height, in_width, in_pad, out_pad;
 };
 struct GemmPush {
-  std::uint32_t m, n, k, b_transposed, has_bias, relu;
+  std::uint32_t m, n, k, lda, ldb, ldc, a_offset, b_offset, c_offset, a_batch, b_batch, c_batch, flags;
   float alpha;
 };
+// Output rows per invocation (ROWS in shaders/gemm.comp).
+constexpr std::uint32_t kGemmRows = 3;
 
 KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size) {
   if (kernel_size != 1 && kernel_size != 3) throw std::invalid_argument("Conv2d: kernel size must be 1 or 3");
@@ -44,8 +47,8 @@ std::size_t activation_bytes(const ActivationShape& shape, Precision precision) 
 Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel_size)
     : kernel_size_(kernel_size), kernel_(context, conv_spec(precision, kernel_size)) {}
 
-void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Buffer& weights,
-                    const Buffer& bias, const Buffer& output, const ActivationShape& out, bool relu,
+void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
+                    const Binding& bias, const Buffer& output, const ActivationShape& out, bool relu,
                     std::string label) const {
   if (in.height != out.height || in.width != out.width)
     throw std::invalid_argument("Conv2d: input and output must have the same spatial size");
@@ -83,9 +86,32 @@ Gemm::Gemm(const Context& context, Precision precision)
 
 void Gemm::record(Sequence& seq, const Buffer& a, const Buffer& b, const Buffer* bias, const Buffer& c,
                   const GemmShape& s, std::string label) const {
-  const GemmPush push{s.m, s.n, s.k, s.b_transposed ? 1u : 0u, bias ? 1u : 0u, s.relu ? 1u : 0u, s.alpha};
-  seq.dispatch(kernel_, {a, b, bias ? *bias : dummy_bias_, c}, push,
-               {groups_for(groups_for(s.n, 4), kGroupX), groups_for(groups_for(s.m, 4), kGroupY)},
+  const Binding bias_binding(bias ? *bias : dummy_bias_);
+  record(seq, Binding(a), Binding(b), bias ? &bias_binding : nullptr, Binding(c), s, std::move(label));
+}
+
+void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Binding* bias, const Binding& c,
+                  const GemmShape& s, std::string label) const {
+  if (s.m == 0 || s.n == 0 || s.batch == 0) return;
+  const std::uint32_t lda = s.lda ? s.lda : s.k, ldb = s.ldb ? s.ldb : (s.b_transposed ? s.k : s.n);
+  // vec4 loads need every vec4 to start at a multiple of 4 elements (and the binding offsets at 16 bytes).
+  auto aligned = [](std::initializer_list<std::uint32_t> values) {
+    for (auto v : values)
+      if (v % 4 != 0) return false;
+    return true;
+  };
+  const bool bindings_aligned = a.offset % 16 == 0 && b.offset % 16 == 0;
+  const bool vec4_k = s.b_transposed && bindings_aligned &&
+                      aligned({s.k, lda, ldb, s.a_offset, s.b_offset, s.a_batch_stride, s.b_batch_stride});
+  const bool vec4_n = !s.b_transposed && bindings_aligned && aligned({s.n, ldb, s.b_offset, s.b_batch_stride});
+  const std::uint32_t flags = (s.b_transposed ? 1u : 0u) | (bias ? 2u : 0u) | (s.relu ? 4u : 0u) |
+                              (s.accumulate ? 8u : 0u) | (vec4_k ? 16u : 0u) | (vec4_n ? 32u : 0u);
+  const GemmPush push{s.m, s.n, s.k, lda, ldb, s.ldc ? s.ldc : s.n,
+                      s.a_offset, s.b_offset, s.c_offset, s.a_batch_stride, s.b_batch_stride, s.c_batch_stride,
+                      flags, s.alpha};
+  const Binding bindings[] = {a, b, bias ? *bias : Binding(dummy_bias_), c};
+  seq.dispatch(kernel_, bindings, &push, sizeof(push),
+               {groups_for(groups_for(s.n, 4), kGroupX), groups_for(groups_for(s.m, kGemmRows), kGroupY), s.batch},
                label.empty() ? fmt::format("gemm {}x{}x{}", s.m, s.n, s.k) : std::move(label));
 }
 

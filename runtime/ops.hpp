@@ -22,11 +22,12 @@ std::size_t activation_bytes(const ActivationShape& shape, Precision precision);
 
 // 3x3 (stride 1, pad 1; input must carry a 1-pixel zero border) or 1x1 convolution + bias (+ ReLU).
 // Weights in the "o4" layout (runtime/tensor_layout.hpp) at the op's storage precision; bias fp32, padded to 4.
+// Weights and bias may be ranges of one buffer (e.g. a model pack's data block bound at each tensor's offset).
 class Conv2d {
  public:
   Conv2d(const Context& context, Precision precision, std::uint32_t kernel_size);
-  void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Buffer& weights,
-              const Buffer& bias, const Buffer& output, const ActivationShape& out, bool relu,
+  void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
+              const Binding& bias, const Buffer& output, const ActivationShape& out, bool relu,
               std::string label = {}) const;
   static double flops(const ActivationShape& in, std::uint32_t out_channels, std::uint32_t kernel_size) {
     return 2.0 * in.height * in.width * in.channels * out_channels * kernel_size * kernel_size;
@@ -48,12 +49,19 @@ class MaxPool2x2 {
   Kernel kernel_;
 };
 
-// C(MxN) = alpha * A(MxK) * op(B) + bias (+ ReLU); op(B) = B (K x N) or B^T (B stored N x K). Row-major.
+// C(MxN) = alpha * A(MxK) * op(B) + bias (+ C) (+ ReLU); op(B) = B (K x N) or B^T (B stored N x K). Row-major.
+// Leading dimensions (0: dense), element offsets and a batch of `batch` problems whose operands advance by
+// fixed element strides let one dispatch work on column blocks of wider matrices (attention heads, [x | msg]).
 struct GemmShape {
   std::uint32_t m = 0, n = 0, k = 0;
   bool b_transposed = false;
   bool relu = false;
   float alpha = 1.0f;
+  bool accumulate = false;  // C += result (residual connections); ReLU, if any, applies to the sum
+  std::uint32_t lda = 0, ldb = 0, ldc = 0;
+  std::uint32_t a_offset = 0, b_offset = 0, c_offset = 0;
+  std::uint32_t batch = 1;
+  std::uint32_t a_batch_stride = 0, b_batch_stride = 0, c_batch_stride = 0;
 };
 
 class Gemm {
@@ -62,7 +70,10 @@ class Gemm {
   // `bias` (N floats, fp32) may be null.
   void record(Sequence& seq, const Buffer& a, const Buffer& b, const Buffer* bias, const Buffer& c,
               const GemmShape& shape, std::string label = {}) const;
-  static double flops(const GemmShape& s) { return 2.0 * s.m * s.n * s.k; }
+  // Same with the bias bound at a byte offset of a larger buffer (weights of a model pack uploaded as one block).
+  void record(Sequence& seq, const Binding& a, const Binding& b, const Binding* bias, const Binding& c,
+              const GemmShape& shape, std::string label = {}) const;
+  static double flops(const GemmShape& s) { return 2.0 * s.m * s.n * s.k * s.batch; }
 
  private:
   Kernel kernel_;

@@ -1,0 +1,272 @@
+#include "features/superpoint/network.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "features/superpoint.hpp"
+#include "runtime/context.hpp"
+#include "runtime/tensor_layout.hpp"
+
+namespace vkvo::features {
+namespace {
+
+struct ExpectedConv {
+  const char* name;
+  std::uint32_t in, out, kernel;
+};
+// The architecture (method notes, "SuperPoint"): encoder widths 64-64-128-128, two heads on the 128-channel trunk.
+constexpr std::array<ExpectedConv, kSuperPointLayers> kArchitecture{{{"conv1a", 1, 64, 3},
+                                                                     {"conv1b", 64, 64, 3},
+                                                                     {"conv2a", 64, 64, 3},
+                                                                     {"conv2b", 64, 64, 3},
+                                                                     {"conv3a", 64, 128, 3},
+                                                                     {"conv3b", 128, 128, 3},
+                                                                     {"conv4a", 128, 128, 3},
+                                                                     {"conv4b", 128, 128, 3},
+                                                                     {"convPa", 128, 256, 3},
+                                                                     {"convPb", 256, 65, 1},
+                                                                     {"convDa", 128, 256, 3},
+                                                                     {"convDb", 256, 0, 1}}};  // 0: descriptor_dim
+
+// Push-constant blocks, mirroring the shaders.
+struct InputPush {
+  std::uint32_t width, height;
+};
+struct HeadPush {
+  std::uint32_t in_channels, cells_h, cells_w;
+};
+struct NormPush {
+  std::uint32_t channels, cells;
+};
+struct RowPush {
+  std::uint32_t width, height, radius;
+};
+struct ColPush {
+  std::uint32_t width, height, radius, border;
+  float threshold;
+  std::uint32_t capacity;
+};
+struct RankPush {
+  std::uint32_t capacity, max_keypoints;
+};
+struct SamplePush {
+  std::uint32_t cells_h, cells_w, dim, capacity, max_keypoints;
+};
+
+rt::KernelSpec spec(const char* op, rt::Precision precision, std::uint32_t bindings, std::uint32_t written,
+                    std::uint32_t push_bytes, std::vector<std::uint32_t> specialization = {}) {
+  return {.op = op, .precision = precision, .bindings = bindings, .written_bindings = written,
+          .push_constant_bytes = push_bytes, .specialization = std::move(specialization)};
+}
+
+rt::Kernel colmax_kernel(const rt::Context& ctx, rt::Precision p, std::uint32_t stage) {
+  // Bindings: 0 rows, 1 scores, 2 max_mask, 3 supp_scores, 4 supp, 5 candidates, 6 counter.
+  constexpr std::uint32_t kWritten[4] = {1u << 2, (1u << 3) | (1u << 4), 1u << 2, (1u << 2) | (1u << 5) | (1u << 6)};
+  return rt::Kernel(ctx, spec("superpoint_nms_colmax", p, 7, kWritten[stage], sizeof(ColPush), {stage}));
+}
+
+SuperPointConv find_conv(const io::ModelPack& pack, const ExpectedConv& expected, rt::Precision precision) {
+  const io::DType dtype = precision == rt::Precision::fp32 ? io::DType::fp32 : io::DType::fp16;
+  const auto& w = pack.tensor(std::string(expected.name) + ".weight", dtype);
+  const auto& b = pack.tensor(std::string(expected.name) + ".bias", io::DType::fp32);
+  SuperPointConv conv{expected.name, expected.in, expected.out, expected.kernel, w.offset, w.byte_size, b.offset,
+                      b.byte_size};
+  if (conv.out_channels == 0 && !w.shape.empty()) conv.out_channels = static_cast<std::uint32_t>(w.shape[0]);
+  const std::vector<std::int64_t> want{conv.out_channels, conv.in_channels, conv.kernel, conv.kernel};
+  if (w.shape != want || w.layout != "o4" || b.layout != "o4")
+    throw std::runtime_error(fmt::format("model pack '{}': tensor {}.weight should be {} in layout o4, found {} in {}",
+                                         pack.source(), expected.name, fmt::join(want, "x"), fmt::join(w.shape, "x"),
+                                         w.layout));
+  return conv;
+}
+
+}  // namespace
+
+SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack& pack, rt::Precision p)
+    : precision(p),
+      block(ctx, std::max<std::size_t>(pack.data_block().size(), 16), rt::BufferKind::device, "superpoint.weights"),
+      conv3x3(ctx, p, 3),
+      conv1x1(ctx, p, 1),
+      pool(ctx, p),
+      input(ctx, spec("superpoint_input", p, 2, 1u << 1, sizeof(InputPush))),
+      detector_head(ctx, spec("superpoint_detector_head", p, 4, 1u << 3, sizeof(HeadPush))),
+      l2norm(ctx, spec("superpoint_l2norm", p, 2, 1u << 1, sizeof(NormPush))),
+      nms_rowmax(ctx, spec("superpoint_nms_rowmax", p, 2, 1u << 1, sizeof(RowPush))),
+      rank(ctx, spec("superpoint_rank", p, 3, 1u << 2, sizeof(RankPush))),
+      sample(ctx, spec("superpoint_sample", p, 7, (1u << 4) | (1u << 5) | (1u << 6), sizeof(SamplePush))),
+      nms_colmax{colmax_kernel(ctx, p, 0), colmax_kernel(ctx, p, 1), colmax_kernel(ctx, p, 2),
+                 colmax_kernel(ctx, p, 3)} {
+  for (std::size_t i = 0; i < kSuperPointLayers; ++i) convs[i] = find_conv(pack, kArchitecture[i], p);
+  block.upload(pack.data_block().data(), pack.data_block().size());
+}
+
+rt::Binding SuperPointNetwork::weights(SuperPointLayer layer) const {
+  return {block, convs[layer].weight_offset, convs[layer].weight_bytes};
+}
+rt::Binding SuperPointNetwork::bias(SuperPointLayer layer) const {
+  return {block, convs[layer].bias_offset, convs[layer].bias_bytes};
+}
+
+SuperPointPlan::SuperPointPlan(const rt::Context& ctx, const SuperPointNetwork& net, const SuperPointParams& params,
+                               int width, int height)
+    : context_(ctx),
+      net_(net),
+      width_(static_cast<std::uint32_t>(width)),
+      height_(static_cast<std::uint32_t>(height)),
+      cells_h_(height_ / 8),
+      cells_w_(width_ / 8),
+      dim_(net.convs[convDb].out_channels),
+      radius_(static_cast<std::uint32_t>(params.nms_radius)),
+      border_(static_cast<std::uint32_t>(std::max(params.remove_borders, 0))),
+      threshold_(params.keypoint_threshold),
+      image_(ctx, rt::round_up(std::size_t(width_) * height_, 4), rt::BufferKind::staging, "superpoint.image"),
+      dense_scores_(ctx, std::size_t(cells_h_) * cells_w_ * 64 * 4, rt::BufferKind::device, "superpoint.dense_scores"),
+      rows_(ctx, dense_scores_.size(), rt::BufferKind::device, "superpoint.nms_rows"),
+      mask_(ctx, dense_scores_.size(), rt::BufferKind::device, "superpoint.nms_mask"),
+      supp_scores_(ctx, dense_scores_.size(), rt::BufferKind::device, "superpoint.nms_supp_scores"),
+      supp_(ctx, dense_scores_.size(), rt::BufferKind::device, "superpoint.nms_supp"),
+      candidates_(ctx, 16, rt::BufferKind::device, "superpoint.candidates"),
+      counter_(ctx, 16, rt::BufferKind::device, "superpoint.counter"),
+      order_(ctx, 16, rt::BufferKind::device, "superpoint.order"),
+      dense_descriptors_(ctx, std::size_t(dim_) * cells_h_ * cells_w_ * 4, rt::BufferKind::device,
+                         "superpoint.dense_descriptors"),
+      keypoints_(ctx, 16, rt::BufferKind::device, "superpoint.keypoints"),
+      scores_(ctx, 16, rt::BufferKind::device, "superpoint.scores"),
+      descriptors_(ctx, 16, rt::BufferKind::device, "superpoint.descriptors"),
+      seq_(ctx) {
+  // NMS maxima closer than r+1 pixels need exactly equal scores, so (r+1)^2 pixels per candidate is a safe
+  // bound in practice; an overflow is reported by keypoint_count().
+  const std::size_t pixels = std::size_t(cells_h_) * cells_w_ * 64;
+  capacity_ = static_cast<std::uint32_t>(std::min(pixels, pixels / ((radius_ + 1) * (radius_ + 1)) + 4096));
+  max_keypoints_ = params.max_keypoints > 0 ? std::min<std::uint32_t>(params.max_keypoints, capacity_) : capacity_;
+  candidates_ = rt::Buffer(ctx, std::size_t(capacity_) * 8, rt::BufferKind::device, "superpoint.candidates");
+  order_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * 4, rt::BufferKind::device, "superpoint.order");
+  keypoints_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * 8, rt::BufferKind::device, "superpoint.keypoints");
+  scores_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * 4, rt::BufferKind::device, "superpoint.scores");
+  descriptors_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * dim_ * 4, rt::BufferKind::device,
+                            "superpoint.descriptors");
+  image_.fill_zero();
+  record();
+}
+
+rt::Buffer& SuperPointPlan::activation(const rt::ActivationShape& shape, const std::string& name) {
+  activations_.emplace_back(context_, rt::activation_bytes(shape, net_.precision), rt::BufferKind::device,
+                            "superpoint." + name);
+  activations_.back().fill_zero();  // the zero border is never written by the kernels
+  shapes_.push_back(shape);
+  return activations_.back();
+}
+
+void SuperPointPlan::record() {
+  activations_.reserve(32);  // 16 are used; references into the vector must stay valid
+  seq_.begin();
+  seq_.fill_zero(counter_, "clear counter");
+
+  rt::ActivationShape shape{1, height_, width_, 1};
+  const rt::Buffer* x = &activation(shape, "input");
+  seq_.dispatch(net_.input, {image_, *x}, InputPush{width_, height_},
+                {rt::groups_for(std::size_t(width_) * height_, 64)}, "input");
+
+  // Encoder: four levels of two 3x3 conv + ReLU, a 2x2 max-pool between levels.
+  const auto conv = [&](SuperPointLayer layer, const rt::Buffer& in, const rt::ActivationShape& in_shape,
+                        std::uint32_t out_pad, bool relu) -> std::pair<const rt::Buffer*, rt::ActivationShape> {
+    const auto& c = net_.convs[layer];
+    const rt::ActivationShape out{c.out_channels, in_shape.height, in_shape.width, out_pad};
+    rt::Buffer& buffer = activation(out, c.name);
+    const rt::Conv2d& op = c.kernel == 3 ? net_.conv3x3 : net_.conv1x1;
+    op.record(seq_, in, in_shape, net_.weights(layer), net_.bias(layer), buffer, out, relu, c.name);
+    return {&buffer, out};
+  };
+  const SuperPointLayer levels[4][2] = {{conv1a, conv1b}, {conv2a, conv2b}, {conv3a, conv3b}, {conv4a, conv4b}};
+  for (int level = 0; level < 4; ++level) {
+    const auto [a, a_shape] = conv(levels[level][0], *x, shape, 1, true);
+    const bool last = level == 3;
+    const auto [b, b_shape] = conv(levels[level][1], *a, a_shape, last ? 1 : 0, true);
+    if (last) {
+      x = b;
+      shape = b_shape;
+      break;
+    }
+    shape = {b_shape.channels, b_shape.height / 2, b_shape.width / 2, 1};
+    rt::Buffer& pooled = activation(shape, fmt::format("pool{}", level + 1));
+    net_.pool.record(seq_, *b, b_shape, pooled, 1, fmt::format("pool{}", level + 1));
+    x = &pooled;
+  }
+
+  // Detector head: convPa + ReLU, then convPb + softmax + depth-to-space in one kernel.
+  const auto [pa, pa_shape] = conv(convPa, *x, shape, 0, true);
+  const std::uint32_t cells = cells_h_ * cells_w_;
+  seq_.dispatch(net_.detector_head,
+                {*pa, net_.weights(convPb), net_.bias(convPb), dense_scores_},
+                HeadPush{pa_shape.channels, cells_h_, cells_w_}, {rt::groups_for(cells, 64)}, "convPb+softmax");
+  // Descriptor head: convDa + ReLU, convDb, L2 normalisation.
+  const auto [da, da_shape] = conv(convDa, *x, shape, 0, true);
+  const auto [db, db_shape] = conv(convDb, *da, da_shape, 0, false);
+  seq_.dispatch(net_.l2norm, {*db, dense_descriptors_}, NormPush{db_shape.channels, cells},
+                {rt::groups_for(cells, 64)}, "descriptor l2norm");
+
+  // NMS (two suppression rounds), selection, top-k, sampling.
+  const std::uint32_t w8 = cells_w_ * 8, h8 = cells_h_ * 8;
+  const rt::Groups pixel_groups{rt::groups_for(std::size_t(w8) * h8, 64)};
+  const RowPush row_push{w8, h8, radius_};
+  const ColPush col_push{w8, h8, radius_, border_, threshold_, capacity_};
+  const auto colmax = [&](int stage, const char* label) {
+    seq_.dispatch(net_.nms_colmax[stage],
+                  {rows_, dense_scores_, mask_, supp_scores_, supp_, candidates_, counter_}, col_push, pixel_groups,
+                  label);
+  };
+  seq_.dispatch(net_.nms_rowmax, {dense_scores_, rows_}, row_push, pixel_groups, "nms rows(scores)");
+  colmax(0, "nms max mask");
+  for (int round = 0; round < 2; ++round) {
+    seq_.dispatch(net_.nms_rowmax, {mask_, rows_}, row_push, pixel_groups, "nms rows(mask)");
+    colmax(1, "nms suppress");
+    seq_.dispatch(net_.nms_rowmax, {supp_scores_, rows_}, row_push, pixel_groups, "nms rows(supp scores)");
+    colmax(round == 0 ? 2 : 3, round == 0 ? "nms update" : "nms update+select");
+  }
+  seq_.dispatch(net_.rank, {candidates_, counter_, order_}, RankPush{capacity_, max_keypoints_},
+                {rt::groups_for(capacity_, 64)}, "top-k rank");
+  seq_.dispatch(net_.sample,
+                {candidates_, counter_, order_, dense_descriptors_, keypoints_, scores_, descriptors_},
+                SamplePush{cells_h_, cells_w_, dim_, capacity_, max_keypoints_}, {max_keypoints_},
+                "sample descriptors");
+  seq_.end();
+}
+
+std::uint32_t SuperPointPlan::run(const std::uint8_t* pixels, std::size_t stride) {
+  if (stride == width_) {
+    image_.upload(pixels, std::size_t(width_) * height_);
+  } else {
+    for (std::uint32_t y = 0; y < height_; ++y) image_.upload(pixels + y * stride, width_, std::size_t(y) * width_);
+  }
+  seq_.submit();
+  return counter_.download<std::uint32_t>(1)[0];
+}
+
+std::uint32_t SuperPointPlan::keypoint_count(std::uint32_t candidates) const {
+  if (candidates > capacity_)
+    spdlog::warn("SuperPoint: {} NMS candidates exceed the list capacity {}; the weakest may be missing",
+                 candidates, capacity_);
+  return std::min({candidates, capacity_, max_keypoints_});
+}
+
+void SuperPointPlan::download(std::uint32_t count, std::vector<float>& keypoints_xy, std::vector<float>& scores,
+                              std::vector<float>& descriptors) const {
+  keypoints_xy.clear();
+  scores.clear();
+  descriptors.clear();
+  if (count == 0) return;
+  keypoints_xy = keypoints_.download<float>(std::size_t(count) * 2);
+  scores = scores_.download<float>(count);
+  descriptors = descriptors_.download<float>(std::size_t(count) * dim_);
+}
+
+void SuperPointPlan::download_dense(std::vector<float>& scores, std::vector<float>& descriptors) const {
+  scores = dense_scores_.download<float>(std::size_t(cells_h_) * cells_w_ * 64);
+  descriptors = dense_descriptors_.download<float>(std::size_t(dim_) * cells_h_ * cells_w_);
+}
+
+}  // namespace vkvo::features

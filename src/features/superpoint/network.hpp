@@ -1,0 +1,79 @@
+#pragma once
+// Internals of features::SuperPoint: the uploaded weights, the pipelines of every op, and the per-image-size plan
+// (activation buffers + the recorded sequence).
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/model_pack.hpp"
+#include "runtime/buffer.hpp"
+#include "runtime/kernel.hpp"
+#include "runtime/ops.hpp"
+#include "runtime/sequence.hpp"
+
+namespace vkvo::features {
+
+struct SuperPointParams;
+
+// One convolution of the pack: its tensors are ranges of the uploaded data block.
+struct SuperPointConv {
+  std::string name;
+  std::uint32_t in_channels = 0, out_channels = 0, kernel = 0;
+  std::size_t weight_offset = 0, weight_bytes = 0, bias_offset = 0, bias_bytes = 0;
+};
+
+// Layer order of the pack (tools/convert/superpoint_converter.hpp).
+enum SuperPointLayer { conv1a, conv1b, conv2a, conv2b, conv3a, conv3b, conv4a, conv4b, convPa, convPb, convDa, convDb };
+inline constexpr std::size_t kSuperPointLayers = 12;
+
+struct SuperPointNetwork {
+  SuperPointNetwork(const rt::Context& context, const io::ModelPack& pack, rt::Precision precision);
+
+  rt::Binding weights(SuperPointLayer layer) const;
+  rt::Binding bias(SuperPointLayer layer) const;
+
+  rt::Precision precision;
+  std::array<SuperPointConv, kSuperPointLayers> convs;
+  rt::Buffer block;  // the pack's whole data block
+  rt::Conv2d conv3x3, conv1x1;
+  rt::MaxPool2x2 pool;
+  rt::Kernel input, detector_head, l2norm, nms_rowmax, rank, sample;
+  std::array<rt::Kernel, 4> nms_colmax;  // stages 0..3 (shaders/superpoint_nms_colmax.comp)
+};
+
+// Buffers and the recorded sequence for one image size.
+class SuperPointPlan {
+ public:
+  SuperPointPlan(const rt::Context& context, const SuperPointNetwork& net, const SuperPointParams& params, int width,
+                 int height);
+
+  // Uploads the image (CV_8UC1 data, `stride` bytes per row), submits, returns the number of NMS candidates.
+  std::uint32_t run(const std::uint8_t* pixels, std::size_t stride);
+  // Number of keypoints the last run produced, and its outputs.
+  std::uint32_t keypoint_count(std::uint32_t candidates) const;
+  void download(std::uint32_t count, std::vector<float>& keypoints_xy, std::vector<float>& scores,
+                std::vector<float>& descriptors) const;
+  void download_dense(std::vector<float>& scores, std::vector<float>& descriptors) const;
+
+  const rt::Sequence& sequence() const { return seq_; }
+  std::uint32_t cells_h() const { return cells_h_; }
+  std::uint32_t cells_w() const { return cells_w_; }
+
+ private:
+  rt::Buffer& activation(const rt::ActivationShape& shape, const std::string& name);
+  void record();
+
+  const rt::Context& context_;
+  const SuperPointNetwork& net_;
+  std::uint32_t width_, height_, cells_h_, cells_w_, dim_;
+  std::uint32_t radius_, border_, capacity_, max_keypoints_;
+  float threshold_;
+  std::vector<rt::Buffer> activations_;
+  std::vector<rt::ActivationShape> shapes_;
+  rt::Buffer image_, dense_scores_, rows_, mask_, supp_scores_, supp_, candidates_, counter_, order_;
+  rt::Buffer dense_descriptors_, keypoints_, scores_, descriptors_;
+  rt::Sequence seq_;
+};
+
+}  // namespace vkvo::features

@@ -1,0 +1,187 @@
+// SuperPoint on the device with random weights (no shared data needed), against the plain C++ reference of
+// superpoint_reference.hpp: the network's dense outputs, each post-processing step (NMS, threshold, border,
+// top-k order, descriptor sampling) on the device's own dense maps, odd image sizes, parameters and errors.
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "common/gpu.hpp"
+#include "features/superpoint.hpp"
+#include "io/config.hpp"
+#include "runtime/tensor_layout.hpp"
+#include "superpoint_reference.hpp"
+
+namespace vkvo::features {
+namespace {
+
+using test::gpu;
+
+// A SuperPoint-shaped pack with He-initialised random weights (activations stay O(1) through the 10 layers).
+io::ModelPack random_pack(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  io::ModelPackWriter writer(io::NetworkKind::superpoint);
+  struct Layer {
+    const char* name;
+    int in, out, k;
+  };
+  const Layer layers[] = {{"conv1a", 1, 64, 3},    {"conv1b", 64, 64, 3},   {"conv2a", 64, 64, 3},
+                          {"conv2b", 64, 64, 3},   {"conv3a", 64, 128, 3},  {"conv3b", 128, 128, 3},
+                          {"conv4a", 128, 128, 3}, {"conv4b", 128, 128, 3}, {"convPa", 128, 256, 3},
+                          {"convPb", 256, 65, 1},  {"convDa", 128, 256, 3}, {"convDb", 256, 256, 1}};
+  for (const auto& l : layers) {
+    std::normal_distribution<float> w_dist(0.0f, std::sqrt(2.0f / float(l.in * l.k * l.k)));
+    std::uniform_real_distribution<float> b_dist(-0.1f, 0.1f);
+    std::vector<float> w(std::size_t(l.out) * l.in * l.k * l.k), b(l.out);
+    for (auto& v : w) v = w_dist(rng);
+    for (auto& v : b) v = b_dist(rng);
+    // The detector logits get a wider spread so that the softmax is peaked, as in the trained network.
+    if (std::string(l.name) == "convPb")
+      for (auto& v : w) v *= 4.0f;
+    writer.add_tensor(std::string(l.name) + ".weight", {l.out, l.in, l.k, l.k}, "o4",
+                      rt::pack_conv_o4(w, l.out, l.in, l.k, l.k));
+    writer.add_tensor(std::string(l.name) + ".bias", {l.out}, "o4", rt::pad_bias_o4(b));
+  }
+  writer.set_number("descriptor_dim", 256);
+  writer.set_number("detector_channels", 65);
+  const auto bytes = writer.serialize();
+  return io::ModelPack::parse(bytes, io::NetworkKind::superpoint, "random weights");
+}
+
+// A textured image: smooth blobs plus noise, so the score map has distinct local maxima.
+cv::Mat random_image(int width, int height, std::uint32_t seed) {
+  cv::Mat image(height, width, CV_8UC1);
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> noise(0, 40);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      image.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(
+          120 + 80 * std::sin(0.37 * x + 0.2 * std::cos(0.11 * y)) * std::cos(0.23 * y) + noise(rng));
+  return image;
+}
+
+struct Tolerance {
+  float score_abs, desc_cos;
+};
+Tolerance tolerance(rt::Precision p) {
+  return p == rt::Precision::fp32 ? Tolerance{2e-5f, 0.99999f} : Tolerance{3e-3f, 0.998f};
+}
+
+class SuperPointRandom : public ::testing::TestWithParam<rt::Precision> {
+ protected:
+  void SetUp() override {
+    if (!gpu().caps().supports(GetParam())) GTEST_SKIP() << gpu().caps().name << " lacks " << rt::to_string(GetParam());
+  }
+};
+
+// Dense outputs of the whole network against the C++ reference, at a size that is not a multiple of 8.
+TEST_P(SuperPointRandom, DenseOutputsMatchReference) {
+  const auto pack = random_pack(7);
+  SuperPointParams params;
+  params.precision = GetParam();
+  SuperPoint sp(gpu(), pack, params);
+  const cv::Mat image = random_image(53, 42, 3);  // -> 6 x 5 cells, dense 48 x 40
+  SuperPointDense dense;
+  sp.detect(image, &dense);
+  const reference::Dense ref = reference::forward(pack, image);
+  ASSERT_EQ(dense.cells_h, 5);
+  ASSERT_EQ(dense.cells_w, 6);
+  ASSERT_EQ(dense.scores.size(), ref.scores.size());
+  const Tolerance tol = tolerance(GetParam());
+  float max_err = 0;
+  for (std::size_t i = 0; i < ref.scores.size(); ++i) max_err = std::max(max_err, std::abs(ref.scores[i] - dense.scores[i]));
+  EXPECT_LE(max_err, tol.score_abs);
+  const std::size_t cells = 30;
+  for (std::size_t cell = 0; cell < cells; ++cell) {
+    double ab = 0, aa = 0, bb = 0;
+    for (std::size_t c = 0; c < 256; ++c) {
+      const double a = ref.descriptors[c * cells + cell], b = dense.descriptors[c * cells + cell];
+      ab += a * b, aa += a * a, bb += b * b;
+    }
+    EXPECT_GE(ab / std::sqrt(aa * bb), tol.desc_cos) << "cell " << cell;
+    EXPECT_NEAR(bb, 1.0, 1e-4) << "unit norm, cell " << cell;
+  }
+}
+
+// Post-processing: the device's keypoints must equal the C++ post-processing of the device's own dense maps
+// exactly (same pixels, same order, same scores), descriptors to 1e-5, for several parameter sets.
+TEST_P(SuperPointRandom, PostProcessingMatchesReference) {
+  const auto pack = random_pack(11);
+  struct Setting {
+    float threshold;
+    int radius, border, max_keypoints;
+  };
+  for (const Setting s : {Setting{0.005f, 4, 4, 400}, Setting{0.02f, 2, 7, 25}, Setting{0.0f, 1, 0, -1}}) {
+    SuperPointParams params{s.threshold, s.radius, s.border, s.max_keypoints, GetParam()};
+    SuperPoint sp(gpu(), pack, params);
+    const cv::Mat image = random_image(101, 67, 5);  // dense 96 x 64
+    SuperPointDense dense;
+    const PointFeatures got = sp.detect(image, &dense);
+    const reference::Dense d{dense.cells_h, dense.cells_w, dense.scores, dense.descriptors};
+    const reference::Keypoints want = reference::postprocess(d, s.threshold, s.radius, s.border, s.max_keypoints);
+    SCOPED_TRACE(::testing::Message() << "threshold " << s.threshold << " radius " << s.radius << " border "
+                                      << s.border << " k " << s.max_keypoints);
+    ASSERT_GT(want.xy.size(), 5u) << "the test image must produce keypoints";
+    ASSERT_EQ(got.size(), want.xy.size());
+    EXPECT_EQ(got.descriptors.cols(), 256);
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      ASSERT_EQ(got.keypoints[i], want.xy[i]) << "keypoint " << i;
+      ASSERT_EQ(got.scores[i], want.scores[i]) << "keypoint " << i;
+      for (int c = 0; c < 256; ++c) ASSERT_NEAR(got.descriptors(i, c), want.descriptors[i][c], 1e-5f) << i << "," << c;
+    }
+    if (s.max_keypoints < 0) {
+      EXPECT_EQ(sp.last_candidate_count(), got.size()) << "no limit keeps every candidate";
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Precisions, SuperPointRandom, ::testing::ValuesIn(rt::kAllPrecisions),
+                         [](const auto& info) { return std::string(rt::to_string(info.param)); });
+
+// The NMS reference itself on a hand-made map worked out by hand: the maxima (2: 0.9, 9: 0.5) suppress their
+// windows; pixel 5 (0.3) is no maximum of the original scores (0.8 lies in its window) but lies outside every
+// suppressed window and is the maximum of the suppressed scores, so round one brings it back.
+TEST(SuperPointReference, NmsRecoversSecondaryMaxima) {
+  const int h = 1, w = 12, r = 2;
+  const std::vector<float> s{0.1f, 0.2f, 0.9f, 0.8f, 0.7f, 0.3f, 0.2f, 0.1f, 0.05f, 0.5f, 0.1f, 0.0f};
+  const auto nms = reference::simple_nms(s, h, w, r);
+  const std::vector<float> want{0, 0, 0.9f, 0, 0, 0.3f, 0, 0, 0, 0.5f, 0, 0};
+  EXPECT_EQ(nms, want);
+}
+
+TEST(SuperPointParamsTest, LoadsYamlSection) {
+  const auto config = io::Config::from_string(
+      "point_detector:\n  keypoint_threshold: 0.004\n  nms_radius: 3\n  remove_borders: 8\n  max_keypoints: 500\n"
+      "  precision: fp32\n");
+  const SuperPointParams p = load_superpoint_params(config.section("point_detector"));
+  EXPECT_FLOAT_EQ(p.keypoint_threshold, 0.004f);
+  EXPECT_EQ(p.nms_radius, 3);
+  EXPECT_EQ(p.remove_borders, 8);
+  EXPECT_EQ(p.max_keypoints, 500);
+  ASSERT_TRUE(p.precision.has_value());
+  EXPECT_EQ(*p.precision, rt::Precision::fp32);
+
+  const SuperPointParams defaults = load_superpoint_params(YAML::Node());
+  EXPECT_FLOAT_EQ(defaults.keypoint_threshold, 0.005f);
+  EXPECT_EQ(defaults.nms_radius, 4);
+  EXPECT_EQ(defaults.remove_borders, 4);
+  EXPECT_EQ(defaults.max_keypoints, 400);
+  EXPECT_FALSE(defaults.precision.has_value());
+
+  EXPECT_THROW(load_superpoint_params(io::Config::from_string("p:\n  nms_radius: abc\n").section("p")),
+               std::runtime_error);
+  EXPECT_THROW(load_superpoint_params(io::Config::from_string("p:\n  precision: fp8\n").section("p")),
+               std::runtime_error);
+}
+
+TEST(SuperPointErrors, RejectsWrongImages) {
+  const auto pack = random_pack(1);
+  SuperPoint sp(gpu(), pack);
+  EXPECT_THROW(sp.detect(cv::Mat()), std::invalid_argument);
+  EXPECT_THROW(sp.detect(cv::Mat(8, 40, CV_8UC1, cv::Scalar(0))), std::invalid_argument);
+  EXPECT_THROW(sp.detect(cv::Mat(40, 40, CV_8UC3, cv::Scalar(0))), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace vkvo::features
