@@ -1,0 +1,94 @@
+// `vkvo bench --superglue --model PACK`: SuperGlue end to end on the chosen device at N = M = 200, 400, 1000
+// random keypoints, per precision: median wall-clock ms of match() (upload, one submit, download), GPU ms,
+// GFLOP/s, and the per-dispatch GPU timestamps of the last run summed per stage.
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <random>
+
+#include <fmt/format.h>
+
+#include "app/bench_registry.hpp"
+#include "app/kernel_bench.hpp"
+#include "features/superglue.hpp"
+
+namespace {
+
+using namespace vkvo;
+
+features::PointFeatures random_set(std::size_t n, int dim, std::mt19937& rng) {
+  features::PointFeatures f;
+  f.image_width = 752;
+  f.image_height = 480;
+  std::uniform_real_distribution<float> ux(0.0f, 752.0f), uy(0.0f, 480.0f), us(0.0f, 1.0f);
+  std::normal_distribution<float> nd(0.0f, 1.0f);
+  f.descriptors.resize(Eigen::Index(n), dim);
+  for (std::size_t i = 0; i < n; ++i) {
+    f.keypoints.emplace_back(ux(rng), uy(rng));
+    f.scores.push_back(us(rng));
+    for (int c = 0; c < dim; ++c) f.descriptors(Eigen::Index(i), c) = nd(rng);
+    f.descriptors.row(Eigen::Index(i)).normalize();
+  }
+  return f;
+}
+
+// "self attn q.k" -> "attn q.k": stages summed over layers.
+std::string stage_of(const std::string& label) {
+  for (const char* prefix : {"self ", "cross "})
+    if (label.rfind(prefix, 0) == 0) return label.substr(std::string(prefix).size());
+  return label;
+}
+
+int run(const rt::Context& context, const app::BenchOptions& options) {
+  if (options.model.empty()) {
+    fmt::print("--superglue needs --model PACK (a SuperGlue model pack from `vkvo convert`)\n");
+    return 1;
+  }
+  const auto pack = io::ModelPack::load(options.model, io::NetworkKind::superglue);
+  for (rt::Precision precision : options.precisions) {
+    features::SuperGlue net(context, pack, {.precision = precision});
+    const int dim = net.config().descriptor_dim;
+    fmt::print("\nSuperGlue ({} layers, {} Sinkhorn iterations), precision {}\n", net.config().cross_layers.size(),
+               net.config().sinkhorn_iterations, rt::to_string(precision));
+    fmt::print("{:>6} {:>10} {:>10} {:>9} {:>10} {:>9}\n", "N=M", "wall ms", "gpu ms", "GFLOP", "GFLOP/s", "matches");
+    std::mt19937 rng(1);
+    for (std::size_t n : {200u, 400u, 1000u}) {
+      const auto a = random_set(n, dim, rng);
+      auto b = a;  // the same points, slightly perturbed: a realistic share of matches
+      std::normal_distribution<float> noise(0.0f, 0.05f);
+      for (Eigen::Index i = 0; i < b.descriptors.rows(); ++i) {
+        for (int c = 0; c < dim; ++c) b.descriptors(i, c) += noise(rng);
+        b.descriptors.row(i).normalize();
+      }
+      std::size_t matched = net.match(a, b).count();  // warm-up: allocation and recording
+      std::vector<double> wall, gpu;
+      for (int r = 0; r < options.repeat; ++r) {
+        const auto start = std::chrono::steady_clock::now();
+        matched = net.match(a, b).count();
+        wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        double sum = 0;
+        for (const auto& t : net.last_timings()) sum += t.ms;
+        gpu.push_back(sum);
+      }
+      const double ms = app::median_ms(wall), flops = net.flops(n, n);
+      fmt::print("{:>6} {:>10.1f} {:>10.1f} {:>9.2f} {:>10.1f} {:>9}\n", n, ms, app::median_ms(gpu), flops * 1e-9,
+                 flops * 1e-6 / ms, matched);
+      std::map<std::string, std::pair<double, int>> stages;
+      for (const auto& t : net.last_timings()) {
+        auto& s = stages[stage_of(t.label)];
+        s.first += t.ms;
+        s.second += 1;
+      }
+      std::vector<std::pair<std::string, std::pair<double, int>>> sorted(stages.begin(), stages.end());
+      std::sort(sorted.begin(), sorted.end(), [](const auto& x, const auto& y) { return x.second.first > y.second.first; });
+      for (const auto& [stage, s] : sorted)
+        fmt::print("         {:<22} {:>8.2f} ms  {:>4} dispatches\n", stage, s.first, s.second);
+    }
+  }
+  return 0;
+}
+
+app::NetworkBenchRegistration registration{
+    {"superglue", "SuperGlue end to end at N = M = 200, 400, 1000 (needs --model PACK)", run}};
+
+}  // namespace

@@ -1,0 +1,42 @@
+#pragma once
+// Fallback point matcher when no SuperGlue pack is configured: mutual nearest neighbours of the (L2-normalised)
+// descriptors, on the device: one GEMM for all cosine similarities, row/column best on the device, then the
+// cosine-distance gate and the optional ratio test. fp32 throughout (the GEMM is small next to SuperGlue).
+#include <memory>
+
+#include <yaml-cpp/yaml.h>
+
+#include "features/point_matcher.hpp"
+#include "runtime/context.hpp"
+#include "runtime/sequence.hpp"
+
+namespace vkvo::features {
+
+struct NnMatcherParams {
+  // Keep a mutual pair when 1 - cos(d0, d1) <= this. 0.245 == L2 distance 0.7 between unit descriptors, the
+  // SuperPoint demo's nearest-neighbour threshold.
+  float max_cosine_distance = 0.245f;
+  // Lowe's ratio on L2 distances (best < ratio * second best); <= 0 disables it.
+  float ratio = 0.0f;
+};
+
+// YAML section `nn_matcher`: max_cosine_distance (or min_similarity = 1 - max_cosine_distance), ratio.
+NnMatcherParams load_nn_matcher_params(const YAML::Node& section);
+
+class NnMatcher final : public PointMatcher {
+ public:
+  explicit NnMatcher(const rt::Context& context, const NnMatcherParams& params = {});
+  ~NnMatcher() override;
+  NnMatcher(const NnMatcher&) = delete;
+  NnMatcher& operator=(const NnMatcher&) = delete;
+
+  // scores0 holds the cosine similarity of each kept match.
+  PointMatches match(const PointFeatures& a, const PointFeatures& b) override;
+  std::vector<rt::CommandTiming> last_timings() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vkvo::features

@@ -1,0 +1,467 @@
+#include "features/superglue.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "io/config.hpp"
+#include "runtime/buffer.hpp"
+#include "runtime/half.hpp"
+#include "runtime/kernel.hpp"
+#include "runtime/ops.hpp"
+
+namespace vkvo::features {
+namespace {
+
+constexpr std::size_t kAlign = 256;  // bytes: >= minStorageBufferOffsetAlignment everywhere
+
+std::size_t align_up(std::size_t v, std::size_t a) { return (v + a - 1) / a * a; }
+
+// A linear layer y = W x + b, W row-major [out][in], prepared on the host.
+struct Linear {
+  int out = 0, in = 0;
+  std::vector<float> weight, bias;
+};
+
+Linear read_linear(const io::ModelPack& pack, const std::string& name) {
+  const auto& w = pack.tensor(name + ".weight", io::DType::fp32);
+  if (w.shape.size() != 2 || w.layout != "oi")
+    throw std::runtime_error(fmt::format("model pack '{}': tensor '{}.weight' must be a 2-D 'oi' linear weight",
+                                         pack.source(), name));
+  Linear l{int(w.shape[0]), int(w.shape[1]), pack.floats(name + ".weight", io::DType::fp32),
+           pack.floats(name + ".bias", io::DType::fp32)};
+  if (l.bias.size() < std::size_t(l.out))
+    throw std::runtime_error(fmt::format("model pack '{}': '{}.bias' has {} values, expected {}", pack.source(), name,
+                                         l.bias.size(), l.out));
+  l.bias.resize(std::size_t(l.out));
+  return l;
+}
+
+void expect_shape(const io::ModelPack& pack, const std::string& name, const Linear& l, int out, int in) {
+  if (l.out != out || l.in != in)
+    throw std::runtime_error(fmt::format("model pack '{}': '{}' maps {} -> {}, expected {} -> {}", pack.source(), name,
+                                         l.in, l.out, in, out));
+}
+
+// SuperGlue's dim-major head split (channel c = d * heads + h) -> head-major (h * head_dim + d).
+int head_major_source(int c_new, int heads, int head_dim) {
+  const int h = c_new / head_dim, d = c_new % head_dim;
+  return d * heads + h;
+}
+
+}  // namespace
+
+SuperGlueParams load_superglue_params(const YAML::Node& section) {
+  SuperGlueParams params;
+  if (!section || section.IsNull()) return params;
+  if (!section.IsMap()) throw std::runtime_error("config section 'point_matcher': expected a map");
+  io::read_param(section, "match_threshold", params.match_threshold);
+  io::read_param(section, "sinkhorn_iterations", params.sinkhorn_iterations);
+  std::string precision = "auto";
+  io::read_param(section, "precision", precision);
+  if (precision != "auto") {
+    params.precision = rt::parse_precision(precision);
+    if (!params.precision)
+      throw std::runtime_error(fmt::format(
+          "config key 'point_matcher.precision': expected auto, fp32, fp16s or fp16, got '{}'", precision));
+  }
+  return params;
+}
+
+SuperGlueConfig read_superglue_config(const io::ModelPack& pack) {
+  SuperGlueConfig c;
+  c.descriptor_dim = int(pack.integer("descriptor_dim"));
+  c.heads = int(pack.integer("heads"));
+  for (double w : pack.numbers("keypoint_encoder")) c.encoder_widths.push_back(int(w));
+  const int layers = int(pack.integer("gnn_layers"));
+  std::stringstream types(pack.string("gnn_layer_types"));
+  for (std::string t; std::getline(types, t, ',');) {
+    if (t != "self" && t != "cross")
+      throw std::runtime_error(fmt::format("model pack '{}': unknown GNN layer type '{}'", pack.source(), t));
+    c.cross_layers.push_back(t == "cross");
+  }
+  if (int(c.cross_layers.size()) != layers)
+    throw std::runtime_error(fmt::format("model pack '{}': gnn_layers = {} but {} layer types", pack.source(), layers,
+                                         c.cross_layers.size()));
+  c.bin_score = float(pack.number("bin_score"));
+  if (pack.has("sinkhorn_iterations")) c.sinkhorn_iterations = int(pack.integer("sinkhorn_iterations"));
+  if (pack.has("attention_channel_order") && pack.string("attention_channel_order") != "dim_major")
+    throw std::runtime_error(fmt::format("model pack '{}': attention_channel_order '{}' is not supported "
+                                         "(expected dim_major)", pack.source(), pack.string("attention_channel_order")));
+  if (c.descriptor_dim <= 0 || c.heads <= 0 || c.descriptor_dim % c.heads != 0)
+    throw std::runtime_error(fmt::format("model pack '{}': descriptor_dim {} is not a multiple of heads {}",
+                                         pack.source(), c.descriptor_dim, c.heads));
+  return c;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+
+struct SuperGlue::Impl {
+  // Where a prepared layer lives: weight at an element offset of `weights`, bias at a byte offset of `biases`.
+  struct Layer {
+    std::uint32_t out = 0, in = 0;
+    std::uint32_t weight_offset = 0;  // elements
+    std::size_t bias_offset = 0;      // bytes
+  };
+  struct GnnLayer {
+    bool cross = false;
+    Layer qkv, mlp0, mlp1;
+  };
+
+  const rt::Context& context;
+  SuperGlueParams params;
+  SuperGlueConfig config;
+  rt::Precision precision;
+  int iterations = 100;
+
+  std::vector<Layer> encoder;
+  std::vector<GnnLayer> gnn;
+  Layer final_proj;
+  std::unique_ptr<rt::Buffer> weights, biases;
+
+  rt::Gemm gemm;
+  rt::Kernel keypoints_kernel, softmax_kernel, scores_kernel, sinkhorn_kernel, assignment_kernel, argmax_kernel,
+      mutual_kernel;
+
+  // Per-size state: buffers and the recorded sequence, reused while (n0, n1) stays the same.
+  std::size_t n0 = 0, n1 = 0;
+  bool recorded = false;
+  std::unique_ptr<rt::Sequence> seq;
+  std::vector<std::unique_ptr<rt::Buffer>> buffers;
+  rt::Buffer *kpts = nullptr, *kscores = nullptr, *enc_in = nullptr, *enc_a = nullptr, *enc_b = nullptr,
+             *state = nullptr, *qkv = nullptr, *hidden = nullptr, *attn0 = nullptr, *attn1 = nullptr, *z = nullptr,
+             *u = nullptr, *v = nullptr, *best = nullptr, *best_value = nullptr, *matches = nullptr,
+             *match_scores = nullptr;
+  std::vector<rt::CommandTiming> timings;
+
+  Impl(const rt::Context& ctx, const io::ModelPack& pack, const SuperGlueParams& p)
+      : context(ctx),
+        params(p),
+        config(read_superglue_config(pack)),
+        precision(p.precision.value_or(ctx.caps().preferred_precision())),
+        gemm(ctx, precision),
+        keypoints_kernel(ctx, {.op = "superglue_keypoints", .precision = precision, .bindings = 3,
+                               .written_bindings = 1u << 2, .push_constant_bytes = 24, .specialization = {}}),
+        softmax_kernel(ctx, {.op = "superglue_softmax", .precision = precision, .bindings = 1,
+                             .written_bindings = 1u, .push_constant_bytes = 8, .specialization = {}}),
+        scores_kernel(ctx, {.op = "superglue_scores", .precision = precision, .bindings = 2,
+                            .written_bindings = 1u << 1, .push_constant_bytes = 20, .specialization = {}}),
+        sinkhorn_kernel(ctx, {.op = "superglue_sinkhorn", .precision = precision, .bindings = 3,
+                              .written_bindings = 0b110u, .push_constant_bytes = 16, .specialization = {}}),
+        assignment_kernel(ctx, {.op = "superglue_assignment", .precision = precision, .bindings = 3,
+                                .written_bindings = 1u, .push_constant_bytes = 12, .specialization = {}}),
+        argmax_kernel(ctx, {.op = "superglue_argmax", .precision = precision, .bindings = 3,
+                            .written_bindings = 0b110u, .push_constant_bytes = 8, .specialization = {}}),
+        mutual_kernel(ctx, {.op = "superglue_mutual", .precision = precision, .bindings = 4,
+                            .written_bindings = 0b1100u, .push_constant_bytes = 12, .specialization = {}}) {
+    if (!ctx.caps().supports(precision))
+      throw std::runtime_error(fmt::format("SuperGlue: device '{}' does not support precision {}", ctx.caps().name,
+                                           rt::to_string(precision)));
+    iterations = params.sinkhorn_iterations > 0 ? params.sinkhorn_iterations : config.sinkhorn_iterations;
+    prepare_weights(pack);
+  }
+
+  // Reads the pack's fp32 weights, regroups and folds them (see the header), and uploads them at the storage
+  // precision: all weights in one buffer, all biases (fp32) in another.
+  void prepare_weights(const io::ModelPack& pack) {
+    const int dim = config.descriptor_dim, heads = config.heads, head_dim = dim / heads;
+    std::vector<float> w_all, b_all;
+    auto add = [&](const Linear& l) {
+      Layer layer{std::uint32_t(l.out), std::uint32_t(l.in), std::uint32_t(w_all.size()), b_all.size() * 4};
+      w_all.insert(w_all.end(), l.weight.begin(), l.weight.end());
+      w_all.resize(align_up(w_all.size(), 4));
+      b_all.insert(b_all.end(), l.bias.begin(), l.bias.end());
+      b_all.resize(align_up(b_all.size(), kAlign / 4));
+      return layer;
+    };
+
+    // Keypoint encoder [x, y, score] -> widths... -> dim; the input is padded to 4 columns.
+    int in = 3;
+    const std::size_t encoder_layers = config.encoder_widths.size() + 1;
+    for (std::size_t i = 0; i < encoder_layers; ++i) {
+      const std::string name = fmt::format("kenc.{}", i);
+      Linear l = read_linear(pack, name);
+      const int out = i < config.encoder_widths.size() ? config.encoder_widths[i] : dim;
+      expect_shape(pack, name, l, out, in);
+      if (i == 0) {
+        Linear padded{l.out, 4, std::vector<float>(std::size_t(l.out) * 4, 0.0f), l.bias};
+        for (int o = 0; o < l.out; ++o)
+          for (int c = 0; c < 3; ++c) padded.weight[std::size_t(o) * 4 + c] = l.weight[std::size_t(o) * 3 + c];
+        l = std::move(padded);
+      }
+      encoder.push_back(add(l));
+      in = out;
+    }
+
+    for (std::size_t layer = 0; layer < config.cross_layers.size(); ++layer) {
+      auto part = [&](const char* what, int out, int in_dim) {
+        const std::string name = fmt::format("gnn.{}.{}", layer, what);
+        Linear l = read_linear(pack, name);
+        expect_shape(pack, name, l, out, in_dim);
+        return l;
+      };
+      // q, k, v stacked, output channels regrouped head-major.
+      Linear qkv{3 * dim, dim, std::vector<float>(std::size_t(3) * dim * dim), std::vector<float>(3 * dim)};
+      const char* names[3] = {"q", "k", "v"};
+      for (int p = 0; p < 3; ++p) {
+        const Linear l = part(names[p], dim, dim);
+        for (int c = 0; c < dim; ++c) {
+          const int src = head_major_source(c, heads, head_dim);
+          std::copy_n(&l.weight[std::size_t(src) * dim], dim, &qkv.weight[(std::size_t(p) * dim + c) * dim]);
+          qkv.bias[std::size_t(p) * dim + c] = l.bias[src];
+        }
+      }
+      // mlp0 on concat(x, merge(m)) == [W0a | W0b Wm] concat(x, m) + (b0 + W0b bm), with m's channels head-major.
+      const Linear merge = part("merge", dim, dim);
+      const Linear mlp0 = part("mlp0", 2 * dim, 2 * dim);
+      Linear folded{2 * dim, 2 * dim, std::vector<float>(std::size_t(4) * dim * dim), mlp0.bias};
+      for (int o = 0; o < 2 * dim; ++o) {
+        const float* w0 = &mlp0.weight[std::size_t(o) * 2 * dim];
+        float* dst = &folded.weight[std::size_t(o) * 2 * dim];
+        std::copy_n(w0, dim, dst);
+        std::vector<double> row(std::size_t(dim), 0.0);
+        double bias = mlp0.bias[o];
+        for (int r = 0; r < dim; ++r) {
+          const double w = w0[dim + r];
+          const float* wm = &merge.weight[std::size_t(r) * dim];
+          for (int c = 0; c < dim; ++c) row[std::size_t(c)] += w * wm[c];
+          bias += w * merge.bias[r];
+        }
+        for (int c = 0; c < dim; ++c) dst[dim + c] = float(row[std::size_t(head_major_source(c, heads, head_dim))]);
+        folded.bias[o] = float(bias);
+      }
+      gnn.push_back({config.cross_layers[layer], add(qkv), add(folded), add(part("mlp1", dim, 2 * dim))});
+    }
+    Linear fp = read_linear(pack, "final_proj");
+    expect_shape(pack, "final_proj", fp, dim, dim);
+    final_proj = add(fp);
+
+    const auto bytes = rt::encode_storage(w_all, precision);
+    weights = std::make_unique<rt::Buffer>(context, bytes.size(), rt::BufferKind::device, "superglue.weights");
+    weights->upload(bytes.data(), bytes.size());
+    biases = std::make_unique<rt::Buffer>(context, b_all.size() * 4, rt::BufferKind::device, "superglue.biases");
+    biases->upload(b_all.data(), b_all.size() * 4);
+  }
+
+  rt::Buffer* make_buffer(std::size_t bytes, const char* name) {
+    buffers.push_back(std::make_unique<rt::Buffer>(context, std::max<std::size_t>(bytes, 16), rt::BufferKind::device,
+                                                   name));
+    return buffers.back().get();
+  }
+
+  void allocate() {
+    buffers.clear();
+    const std::size_t rows = n0 + n1, dim = std::size_t(config.descriptor_dim), sb = rt::storage_bytes(precision);
+    std::size_t widest = 4;
+    for (const Layer& l : encoder) widest = std::max<std::size_t>(widest, l.out);
+    kpts = make_buffer(rows * 2 * 4, "superglue.keypoints");
+    kscores = make_buffer(rows * 4, "superglue.scores");
+    enc_in = make_buffer(rows * 4 * sb, "superglue.encoder_input");
+    enc_a = make_buffer(rows * widest * sb, "superglue.encoder_a");
+    enc_b = make_buffer(rows * widest * sb, "superglue.encoder_b");
+    state = make_buffer(rows * 2 * dim * sb, "superglue.state");
+    qkv = make_buffer(rows * 3 * dim * sb, "superglue.qkv");
+    hidden = make_buffer(rows * 2 * dim * sb, "superglue.hidden");
+    // Scores of one set's queries against either set (self or cross layers): rows x max(n0, n1) per head.
+    const std::size_t widest_set = std::max(n0, n1);
+    attn0 = make_buffer(std::size_t(config.heads) * n0 * widest_set * sb, "superglue.attention0");
+    attn1 = make_buffer(std::size_t(config.heads) * n1 * widest_set * sb, "superglue.attention1");
+    z = make_buffer((n0 + 1) * (n1 + 1) * 4, "superglue.couplings");
+    u = make_buffer((n0 + 1) * 4, "superglue.u");
+    v = make_buffer((n1 + 1) * 4, "superglue.v");
+    best = make_buffer(rows * 4, "superglue.best");
+    best_value = make_buffer(rows * 4, "superglue.best_value");
+    matches = make_buffer(n0 * 4, "superglue.matches0");
+    match_scores = make_buffer(n0 * 4, "superglue.matching_scores0");
+  }
+
+  rt::Binding bias_of(const Layer& l) const { return rt::Binding(*biases, l.bias_offset, std::size_t(l.out) * 4); }
+
+  // y = x W^T + b for `rows` rows; x and y are column blocks of row-major matrices with leading dimensions.
+  void linear(const Layer& l, const rt::Buffer& x, std::uint32_t ldx, const rt::Buffer& y, std::uint32_t ldy,
+              bool relu, bool accumulate, const std::string& label) {
+    const rt::Binding bias = bias_of(l);
+    rt::GemmShape s{.m = std::uint32_t(n0 + n1), .n = l.out, .k = l.in, .b_transposed = true, .relu = relu,
+                    .accumulate = accumulate, .lda = ldx, .ldb = l.in, .ldc = ldy, .b_offset = l.weight_offset};
+    gemm.record(*seq, x, *weights, &bias, y, s, label);
+  }
+
+  // Multi-head attention of keypoint set `a` (queries) over set `src` (keys, values); the heads' outputs go to the
+  // message half of `a`'s state rows.
+  void attention(int a, int src, const rt::Buffer& scores, const std::string& label) {
+    const std::uint32_t dim = config.descriptor_dim, heads = config.heads, head_dim = dim / heads;
+    const std::uint32_t rows_a = a == 0 ? n0 : n1, rows_s = src == 0 ? n0 : n1;
+    const std::uint32_t first_a = a == 0 ? 0 : n0, first_s = src == 0 ? 0 : n0;
+    gemm.record(*seq, *qkv, *qkv, nullptr, scores,
+                {.m = rows_a, .n = rows_s, .k = head_dim, .b_transposed = true,
+                 .alpha = 1.0f / std::sqrt(float(head_dim)), .lda = 3 * dim, .ldb = 3 * dim, .ldc = rows_s,
+                 .a_offset = first_a * 3 * dim, .b_offset = first_s * 3 * dim + dim, .batch = heads,
+                 .a_batch_stride = head_dim, .b_batch_stride = head_dim, .c_batch_stride = rows_a * rows_s},
+                label + " q.k");
+    struct SoftmaxPush { std::uint32_t rows, cols; } sp{heads * rows_a, rows_s};
+    seq->dispatch(softmax_kernel, {rt::Binding(scores)}, sp, {rt::groups_for(sp.rows, 64)}, label + " softmax");
+    gemm.record(*seq, scores, *qkv, nullptr, *state,
+                {.m = rows_a, .n = head_dim, .k = rows_s, .lda = rows_s, .ldb = 3 * dim, .ldc = 2 * dim,
+                 .b_offset = first_s * 3 * dim + 2 * dim, .c_offset = first_a * 2 * dim + dim, .batch = heads,
+                 .a_batch_stride = rows_a * rows_s, .b_batch_stride = head_dim, .c_batch_stride = head_dim},
+                label + " p.v");
+  }
+
+  void record() {
+    const std::uint32_t dim = config.descriptor_dim;
+    const std::uint32_t rows = std::uint32_t(n0 + n1);
+    if (!seq) seq = std::make_unique<rt::Sequence>(context, 1024);
+    seq->begin();
+    // Image sizes are push constants: the sequence is re-recorded when they change (see match()).
+    seq->dispatch(keypoints_kernel, {rt::Binding(*kpts), rt::Binding(*kscores), rt::Binding(*enc_in)}, image_push,
+                  {rt::groups_for(rows, 64)}, "keypoints");
+    const rt::Buffer* x = enc_in;
+    std::uint32_t width = 4;
+    for (std::size_t i = 0; i < encoder.size(); ++i) {
+      const bool last = i + 1 == encoder.size();
+      const rt::Buffer* y = last ? state : (x == enc_a ? enc_b : enc_a);
+      linear(encoder[i], *x, width, *y, last ? 2 * dim : encoder[i].out, !last, last, "kenc");
+      x = y;
+      width = encoder[i].out;
+    }
+    for (std::size_t l = 0; l < gnn.size(); ++l) {
+      const GnnLayer& layer = gnn[l];
+      const std::string tag = layer.cross ? "cross" : "self";
+      linear(layer.qkv, *state, 2 * dim, *qkv, 3 * dim, false, false, tag + " qkv");
+      attention(0, layer.cross ? 1 : 0, *attn0, tag + " attn");
+      attention(1, layer.cross ? 0 : 1, *attn1, tag + " attn");
+      linear(layer.mlp0, *state, 2 * dim, *hidden, 2 * dim, true, false, tag + " mlp0");
+      linear(layer.mlp1, *hidden, 2 * dim, *state, 2 * dim, false, true, tag + " mlp1");
+    }
+    linear(final_proj, *state, 2 * dim, *hidden, dim, false, false, "final_proj");
+
+    struct ScoresPush { std::uint32_t n0, n1, dim; float scale, bin; } sc{std::uint32_t(n0), std::uint32_t(n1), dim,
+                                                                         1.0f / std::sqrt(float(dim)),
+                                                                         config.bin_score};
+    seq->dispatch(scores_kernel, {rt::Binding(*hidden), rt::Binding(*z)}, sc,
+                  {rt::groups_for(rt::groups_for(n1 + 1, 4), 16), rt::groups_for(rt::groups_for(n0 + 1, 3), 4)},
+                  "scores");
+    seq->fill_zero(*u, "sinkhorn init");
+    seq->fill_zero(*v, "sinkhorn init");
+    const float norm = -std::log(float(n0 + n1));
+    struct SinkhornPush { std::uint32_t rows, cols, axis; float norm; };
+    for (int it = 0; it < iterations; ++it)
+      for (std::uint32_t axis = 0; axis < 2; ++axis) {
+        const SinkhornPush push{std::uint32_t(n0 + 1), std::uint32_t(n1 + 1), axis, norm};
+        seq->dispatch(sinkhorn_kernel, {rt::Binding(*z), rt::Binding(*u), rt::Binding(*v)}, push,
+                      {rt::groups_for(axis == 0 ? n0 + 1 : n1 + 1, 64)}, "sinkhorn");
+      }
+    struct AssignPush { std::uint32_t rows, cols; float norm; } ap{std::uint32_t(n0 + 1), std::uint32_t(n1 + 1), norm};
+    const std::size_t cells = (n0 + 1) * (n1 + 1);
+    const std::uint32_t groups = rt::groups_for(cells, 64);
+    const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535), gy = rt::groups_for(groups, gx);
+    seq->dispatch(assignment_kernel, {rt::Binding(*z), rt::Binding(*u), rt::Binding(*v)}, ap, {gx, gy},
+                  "log_assignment");
+    struct PairPush { std::uint32_t n0, n1; } pp{std::uint32_t(n0), std::uint32_t(n1)};
+    seq->dispatch(argmax_kernel, {rt::Binding(*z), rt::Binding(*best), rt::Binding(*best_value)}, pp,
+                  {rt::groups_for(rows, 64)}, "argmax");
+    struct MutualPush { std::uint32_t n0, n1; float threshold; } mp{std::uint32_t(n0), std::uint32_t(n1),
+                                                                    params.match_threshold};
+    seq->dispatch(mutual_kernel,
+                  {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*matches), rt::Binding(*match_scores)},
+                  mp, {rt::groups_for(n0, 64)}, "mutual");
+    seq->end();
+    recorded = true;
+  }
+
+  struct ImagePush {
+    std::uint32_t n0, n1;
+    float w0, h0, w1, h1;
+  } image_push{};
+};
+
+SuperGlue::SuperGlue(const rt::Context& context, const io::ModelPack& pack, const SuperGlueParams& params)
+    : impl_(std::make_unique<Impl>(context, pack, params)) {}
+
+SuperGlue::~SuperGlue() = default;
+
+rt::Precision SuperGlue::precision() const { return impl_->precision; }
+const SuperGlueConfig& SuperGlue::config() const { return impl_->config; }
+std::vector<rt::CommandTiming> SuperGlue::last_timings() const { return impl_->timings; }
+
+double SuperGlue::flops(std::size_t n0, std::size_t n1) const {
+  const double rows = double(n0 + n1), dim = impl_->config.descriptor_dim;
+  double total = 0;
+  for (const auto& l : impl_->encoder) total += 2.0 * rows * l.out * l.in;
+  for (const auto& l : impl_->gnn) {
+    total += 2.0 * rows * (double(l.qkv.out) * l.qkv.in + double(l.mlp0.out) * l.mlp0.in + double(l.mlp1.out) * l.mlp1.in);
+    total += 2.0 * 2.0 * 2.0 * double(n0) * double(n1) * dim;  // q.k and p.v, both directions
+  }
+  total += 2.0 * rows * dim * dim + 2.0 * double(n0) * double(n1) * dim;  // final projection, scores
+  return total;
+}
+
+PointMatches SuperGlue::match(const PointFeatures& a, const PointFeatures& b) { return match(a, b, nullptr); }
+
+PointMatches SuperGlue::match(const PointFeatures& a, const PointFeatures& b, Eigen::MatrixXf* log_assignment) {
+  Impl& s = *impl_;
+  PointMatches result;
+  result.matches0.assign(a.size(), -1);
+  result.scores0.assign(a.size(), 0.0f);
+  s.timings.clear();
+  if (log_assignment) log_assignment->resize(0, 0);
+  if (a.size() == 0 || b.size() == 0) return result;
+
+  const int dim = s.config.descriptor_dim;
+  for (const PointFeatures* f : {&a, &b}) {
+    if (f->descriptors.rows() != Eigen::Index(f->size()) || f->descriptors.cols() != dim || f->scores.size() != f->size())
+      throw std::invalid_argument(fmt::format("SuperGlue: {} keypoints need {} scores and {} x {} descriptors "
+                                              "(got {} scores, {} x {})", f->size(), f->size(), f->size(), dim,
+                                              f->scores.size(), f->descriptors.rows(), f->descriptors.cols()));
+    if (f->image_width <= 0 || f->image_height <= 0)
+      throw std::invalid_argument("SuperGlue: image_width and image_height are needed to normalise keypoints");
+  }
+  if (a.size() != s.n0 || b.size() != s.n1) {
+    s.n0 = a.size();
+    s.n1 = b.size();
+    s.allocate();
+    s.recorded = false;
+  }
+  const Impl::ImagePush image{std::uint32_t(s.n0), std::uint32_t(s.n1), float(a.image_width), float(a.image_height),
+                              float(b.image_width), float(b.image_height)};
+  if (image.w0 != s.image_push.w0 || image.h0 != s.image_push.h0 || image.w1 != s.image_push.w1 ||
+      image.h1 != s.image_push.h1 || image.n0 != s.image_push.n0 || image.n1 != s.image_push.n1) {
+    s.image_push = image;
+    s.recorded = false;
+  }
+
+  const std::size_t rows = s.n0 + s.n1;
+  std::vector<float> kp(rows * 2), sc(rows), st(rows * 2 * std::size_t(dim), 0.0f);
+  std::size_t r = 0;
+  for (const PointFeatures* f : {&a, &b})
+    for (std::size_t i = 0; i < f->size(); ++i, ++r) {
+      kp[2 * r] = f->keypoints[i].x();
+      kp[2 * r + 1] = f->keypoints[i].y();
+      sc[r] = f->scores[i];
+      for (int c = 0; c < dim; ++c) st[r * 2 * dim + c] = f->descriptors(Eigen::Index(i), c);
+    }
+  s.kpts->upload(std::span<const float>(kp));
+  s.kscores->upload(std::span<const float>(sc));
+  const auto state_bytes = rt::encode_storage(st, s.precision);
+  s.state->upload(state_bytes.data(), state_bytes.size());
+
+  if (!s.recorded) s.record();
+  s.seq->submit();
+  s.timings = s.seq->timings();
+
+  const auto m = s.matches->download<std::int32_t>(s.n0);
+  result.matches0.assign(m.begin(), m.end());
+  result.scores0 = s.match_scores->download<float>(s.n0);
+  if (log_assignment) {
+    const auto dense = s.z->download<float>((s.n0 + 1) * (s.n1 + 1));
+    *log_assignment = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        dense.data(), Eigen::Index(s.n0 + 1), Eigen::Index(s.n1 + 1));
+  }
+  return result;
+}
+
+}  // namespace vkvo::features

@@ -1,0 +1,154 @@
+// SuperGlue on the device against the double-precision reference (tests/superglue/superglue_reference.hpp) with
+// random weights, in every precision the device supports: the whole network, networks reduced to single stages
+// (no GNN layer: encoder + scores + Sinkhorn + extraction; one self layer: attention), edge cases.
+#include <gtest/gtest.h>
+
+#include "common/gpu.hpp"
+#include "features/superglue.hpp"
+#include "runtime/context.hpp"
+#include "superglue_reference.hpp"
+
+namespace vkvo::features {
+namespace {
+
+using test::gpu;
+
+class SuperGlueRandom : public ::testing::TestWithParam<rt::Precision> {
+ protected:
+  void SetUp() override {
+    if (!gpu().caps().supports(GetParam()))
+      GTEST_SKIP() << gpu().caps().name << " does not support " << rt::to_string(GetParam());
+  }
+  SuperGlueParams params() const { return {.match_threshold = 0.2f, .sinkhorn_iterations = 0, .precision = GetParam()}; }
+  // Log-assignment tolerance: fp32 shaders vs the double reference differ by summation order only; fp16 storage
+  // rounds every activation to 11 bits (same bound as golden/README.md).
+  double tolerance() const { return GetParam() == rt::Precision::fp32 ? 1e-3 : 0.05; }
+};
+
+// Noisy copies of part of set a, plus fresh points, so that there is something to match.
+std::pair<PointFeatures, PointFeatures> make_pair(std::size_t n0, std::size_t n1, int dim, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  PointFeatures a = test::random_features(n0, dim, rng);
+  PointFeatures b = test::random_features(n1, dim, rng);
+  std::normal_distribution<float> noise(0.0f, 0.15f);
+  for (std::size_t j = 0; j < std::min(n0, n1) * 2 / 3; ++j) {
+    const std::size_t i = (j * 7 + 3) % n0;
+    b.keypoints[j] = a.keypoints[i] + Eigen::Vector2f(noise(rng) * 10, noise(rng) * 10);
+    for (int c = 0; c < dim; ++c) b.descriptors(Eigen::Index(j), c) = a.descriptors(Eigen::Index(i), c) + noise(rng) / 4;
+    b.descriptors.row(Eigen::Index(j)).normalize();
+  }
+  return {a, b};
+}
+
+void expect_matches_reference(SuperGlue& net, const io::ModelPack& pack, const PointFeatures& a,
+                              const PointFeatures& b, double tolerance, double min_identical) {
+  Eigen::MatrixXf la;
+  const PointMatches got = net.match(a, b, &la);
+  const auto ref = test::reference_superglue(pack, a, b, 0.2, net.config().sinkhorn_iterations);
+  ASSERT_EQ(la.rows(), ref.log_assignment.rows());
+  ASSERT_EQ(la.cols(), ref.log_assignment.cols());
+  const double err = (la.cast<double>() - ref.log_assignment).cwiseAbs().maxCoeff();
+  EXPECT_LE(err, tolerance) << a.size() << " x " << b.size() << " log-assignment";
+  ASSERT_EQ(got.matches0.size(), a.size());
+  std::size_t same = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) same += got.matches0[i] == ref.matches.matches0[i];
+  EXPECT_GE(double(same), min_identical * double(a.size())) << same << " of " << a.size() << " identical matches0";
+  EXPECT_GT(ref.matches.count(), 0u) << "the case should produce matches";
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (got.matches0[i] == ref.matches.matches0[i] && got.matches0[i] >= 0) {
+      EXPECT_NEAR(got.scores0[i], ref.matches.scores0[i], tolerance * 2) << "matching score of keypoint " << i;
+    }
+  }
+}
+
+TEST_P(SuperGlueRandom, WholeNetworkMatchesReference) {
+  const auto pack = test::random_superglue_pack({});
+  SuperGlue net(gpu(), pack, params());
+  EXPECT_EQ(net.precision(), GetParam());
+  EXPECT_EQ(net.config().cross_layers.size(), 3u);
+  const auto [a, b] = make_pair(37, 23, 32, 1);  // N != M, neither a multiple of the tiles
+  expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+  // Same sizes again (recorded sequence reused), then swapped sizes (re-recorded).
+  const auto [c, d] = make_pair(37, 23, 32, 2);
+  expect_matches_reference(net, pack, c, d, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+  expect_matches_reference(net, pack, d, c, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+}
+
+TEST_P(SuperGlueRandom, SinkhornAndExtractionWithoutGnn) {
+  test::RandomSuperGlueSpec spec;
+  spec.cross = {};
+  spec.sinkhorn_iterations = 20;
+  const auto pack = test::random_superglue_pack(spec);
+  SuperGlue net(gpu(), pack, params());
+  EXPECT_EQ(net.config().sinkhorn_iterations, 20);
+  const auto [a, b] = make_pair(50, 41, 32, 3);
+  expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+}
+
+TEST_P(SuperGlueRandom, SingleSelfAndCrossAttentionLayers) {
+  for (bool cross : {false, true}) {
+    test::RandomSuperGlueSpec spec;
+    spec.cross = {cross};
+    spec.dim = 64;
+    spec.heads = 4;
+    spec.seed = cross ? 11 : 12;
+    spec.proj_gain = 8.0;  // scores = gain^2 cos / sqrt(64): strong enough to beat the bin score
+    const auto pack = test::random_superglue_pack(spec);
+    SuperGlue net(gpu(), pack, params());
+    const auto [a, b] = make_pair(29, 66, 64, 4);
+    expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+  }
+}
+
+TEST_P(SuperGlueRandom, EdgeCases) {
+  const auto pack = test::random_superglue_pack({});
+  SuperGlue net(gpu(), pack, params());
+  std::mt19937 rng(5);
+  const PointFeatures empty = test::random_features(0, 32, rng);
+  const PointFeatures some = test::random_features(10, 32, rng);
+  Eigen::MatrixXf la;
+  auto r = net.match(empty, some, &la);
+  EXPECT_TRUE(r.matches0.empty());
+  EXPECT_EQ(la.size(), 0);
+  r = net.match(some, empty);
+  ASSERT_EQ(r.matches0.size(), 10u);
+  EXPECT_EQ(r.count(), 0u);
+  EXPECT_TRUE(net.last_timings().empty()) << "nothing should run on the device for an empty set";
+  // One keypoint on each side, and one against many.
+  PointFeatures one = test::random_features(1, 32, rng);
+  PointFeatures copy = one;
+  expect_matches_reference(net, pack, one, copy, tolerance(), 1.0);
+  EXPECT_EQ(net.match(one, copy).matches0, std::vector<int>{0}) << "a single identical point must match";
+  PointFeatures many = some;
+  many.descriptors.row(6) = one.descriptors.row(0);
+  many.keypoints[6] = one.keypoints[0];
+  expect_matches_reference(net, pack, one, many, tolerance(), 1.0);
+  // Missing image size or descriptor width mismatch are errors, not crashes.
+  PointFeatures bad = some;
+  bad.image_width = 0;
+  EXPECT_THROW(net.match(some, bad), std::invalid_argument);
+  bad = some;
+  bad.descriptors.conservativeResize(10, 16);
+  EXPECT_THROW(net.match(some, bad), std::invalid_argument);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllPrecisions, SuperGlueRandom, ::testing::ValuesIn(rt::kAllPrecisions),
+                         [](const auto& info) { return std::string(rt::to_string(info.param)); });
+
+TEST(SuperGlueParams, LoadsYamlSection) {
+  const auto p = load_superglue_params(YAML::Load("{match_threshold: 0.3, sinkhorn_iterations: 50, precision: fp32}"));
+  EXPECT_FLOAT_EQ(p.match_threshold, 0.3f);
+  EXPECT_EQ(p.sinkhorn_iterations, 50);
+  ASSERT_TRUE(p.precision.has_value());
+  EXPECT_EQ(*p.precision, rt::Precision::fp32);
+  const auto d = load_superglue_params(YAML::Node());
+  EXPECT_FLOAT_EQ(d.match_threshold, 0.2f);
+  EXPECT_EQ(d.sinkhorn_iterations, 100);
+  EXPECT_FALSE(d.precision.has_value());
+  EXPECT_FALSE(load_superglue_params(YAML::Load("{precision: auto}")).precision.has_value());
+  EXPECT_THROW(load_superglue_params(YAML::Load("{precision: fp64}")), std::runtime_error);
+  EXPECT_THROW(load_superglue_params(YAML::Load("{match_threshold: [1, 2]}")), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace vkvo::features
