@@ -1,0 +1,75 @@
+#include "app/model_locator.hpp"
+
+#include <cstdlib>
+#include <vector>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "tools/convert/convert.hpp"
+
+namespace vkvo::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path cache_dir() {
+  if (const char* dir = std::getenv("VKVO_CACHE_DIR"); dir && *dir) return dir;
+  if (const char* dir = std::getenv("XDG_CACHE_HOME"); dir && *dir) return fs::path(dir) / "vkvo";
+  if (const char* home = std::getenv("HOME"); home && *home) return fs::path(home) / ".cache" / "vkvo";
+  return fs::temp_directory_path() / "vkvo-cache";
+}
+
+// A pack for `file`: itself when it is one, else its conversion, cached by name, size and modification time.
+LocatedModel as_pack(const fs::path& file, const std::string& how) {
+  if (!fs::is_regular_file(file)) throw std::runtime_error(fmt::format("model file {} does not exist", file.string()));
+  if (file.extension() != ".onnx") return {file, how};
+  const auto stamp = fs::last_write_time(file).time_since_epoch().count();
+  const fs::path pack = cache_dir() / fmt::format("{}-{}-{:x}.vkvopack", file.stem().string(), fs::file_size(file),
+                                                  static_cast<unsigned long long>(stamp));
+  if (!fs::exists(pack)) {
+    fs::create_directories(pack.parent_path());
+    spdlog::info("converting {} -> {} (once)", file.string(), pack.string());
+    const fs::path tmp = pack.string() + ".tmp";
+    convert::convert_file(file, tmp);
+    fs::rename(tmp, pack);
+  }
+  return {pack, fmt::format("{} (converted from {})", how, file.string())};
+}
+
+std::vector<fs::path> shared_model_dirs() {
+  std::vector<fs::path> dirs;
+  if (const char* data = std::getenv("VKVO_DATA"); data && *data) dirs.push_back(fs::path(data) / "models");
+  dirs.push_back(fs::current_path() / ".." / "shared" / "models");
+  dirs.push_back(fs::path(VKVO_SOURCE_DIR) / ".." / "shared" / "models");
+  return dirs;
+}
+
+std::optional<LocatedModel> find_in(const fs::path& dir, const std::string& stem, const std::string& how) {
+  for (const char* ext : {".vkvopack", ".onnx"}) {
+    const fs::path file = dir / (stem + ext);
+    if (fs::is_regular_file(file)) return as_pack(file, how);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<LocatedModel> locate_model(const std::string& stem, const fs::path& explicit_path) {
+  if (!explicit_path.empty()) return as_pack(explicit_path, "given");
+  if (const char* models = std::getenv("VKVO_MODELS"); models && *models)
+    if (auto found = find_in(models, stem, "$VKVO_MODELS")) return found;
+  for (const auto& dir : shared_model_dirs())
+    if (auto found = find_in(dir, stem, "shared data")) return found;
+  return std::nullopt;
+}
+
+std::string superpoint_help() {
+  return "no SuperPoint weights found. vkvo looks for superpoint_v1.vkvopack or superpoint_v1.onnx in --model, "
+         "$VKVO_MODELS, then $VKVO_DATA/models or ../shared/models. To make one: export Magic Leap's "
+         "superpoint_v1.pth (SuperPointPretrainedNetwork, non-commercial research licence) to ONNX with "
+         "torch.onnx.export (opset 13, input 1x1xHxW with dynamic H/W), or take the superpoint_v1.onnx that AirVO "
+         "ships, then run `vkvo convert --onnx superpoint_v1.onnx --out $VKVO_MODELS/superpoint_v1.vkvopack`.";
+}
+
+}  // namespace vkvo::app

@@ -1,0 +1,89 @@
+#include "system/stereo_keyframe.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "features/lines/line_matching.hpp"
+
+namespace vkvo::system {
+
+geometry::Segment2d to_segment(const features::LineSegment& line) {
+  return {line.p0.x(), line.p0.y(), line.p1.x(), line.p1.y()};
+}
+
+StereoPoints triangulate_stereo_points(const geometry::StereoCamera& stereo, const features::PointFeatures& left,
+                                       const features::PointFeatures& right, const features::PointMatches& matches,
+                                       const geometry::TriangulationParams& params) {
+  StereoPoints out;
+  out.right_x.assign(left.size(), -1.0);
+  out.positions.assign(left.size(), std::nullopt);
+  for (std::size_t i = 0; i < left.size() && i < matches.matches0.size(); ++i) {
+    const int j = matches.matches0[i];
+    if (j < 0) continue;
+    const Eigen::Vector2d l = left.keypoints[i].cast<double>();
+    const Eigen::Vector2d r = right.keypoints[static_cast<std::size_t>(j)].cast<double>();
+    if (auto p = geometry::triangulate_stereo_point(stereo, l, r, params)) {
+      out.right_x[i] = r.x();
+      out.positions[i] = *p;
+      ++out.count;
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// The two triangulated points of `line` whose keypoints lie nearest the segment's supporting line.
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> two_points_on_line(
+    const features::LineSegment& line, const std::vector<int>& line_points, const features::PointFeatures& points,
+    const StereoPoints& stereo) {
+  std::vector<std::pair<float, int>> candidates;
+  for (int k : line_points)
+    if (stereo.positions[static_cast<std::size_t>(k)])
+      candidates.emplace_back(line.distance_to_line(points.keypoints[static_cast<std::size_t>(k)]), k);
+  if (candidates.size() < 2) return std::nullopt;
+  std::partial_sort(candidates.begin(), candidates.begin() + 2, candidates.end());
+  const Eigen::Vector3d a = *stereo.positions[static_cast<std::size_t>(candidates[0].second)];
+  const Eigen::Vector3d b = *stereo.positions[static_cast<std::size_t>(candidates[1].second)];
+  if ((a - b).norm() < 1e-3) return std::nullopt;  // the same 3D point twice: no direction
+  return std::make_pair(a, b);
+}
+
+}  // namespace
+
+StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo,
+                                     const std::vector<features::LineSegment>& left_lines,
+                                     const features::PointLineAssociation& left_association,
+                                     const std::vector<features::LineSegment>& right_lines,
+                                     const features::PointLineAssociation& right_association,
+                                     const std::vector<int>& stereo_matches, const features::PointFeatures& left_points,
+                                     const StereoPoints& stereo_points, const features::LineMatchParams& match_params,
+                                     const geometry::TriangulationParams& params) {
+  StereoLines out;
+  out.right.assign(left_lines.size(), std::nullopt);
+  out.lines.assign(left_lines.size(), std::nullopt);
+  const std::vector<int> partner =
+      features::match_lines(left_association, right_association, stereo_matches, match_params);
+  for (std::size_t l = 0; l < left_lines.size(); ++l) {
+    const auto points_on_line =
+        two_points_on_line(left_lines[l], left_association.points_of_line[l], left_points, stereo_points);
+    const int r = l < partner.size() ? partner[l] : -1;
+    if (r >= 0) {
+      const geometry::Segment2d right = to_segment(right_lines[static_cast<std::size_t>(r)]);
+      const auto tri = geometry::triangulate_stereo_line(stereo, to_segment(left_lines[l]), right, points_on_line, params);
+      if (tri.method != geometry::LineTriangulationMethod::failed) {
+        out.right[l] = right;
+        out.lines[l] = tri.line;
+        (tri.method == geometry::LineTriangulationMethod::planes ? out.planes : out.points)++;
+        continue;
+      }
+    }
+    if (points_on_line) {
+      out.lines[l] = geometry::PlueckerLine::from_points(points_on_line->first, points_on_line->second);
+      ++out.points;
+    }
+  }
+  return out;
+}
+
+}  // namespace vkvo::system

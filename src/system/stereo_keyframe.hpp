@@ -1,0 +1,50 @@
+#pragma once
+// The stereo half of keyframe creation: right-image features, left<->right point and line matching, and
+// triangulation of the matches in the rectified left camera frame.
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "features/lines/line_params.hpp"
+#include "features/lines/line_segment.hpp"
+#include "features/lines/point_line_association.hpp"
+#include "features/point_features.hpp"
+#include "geometry/camera.hpp"
+#include "geometry/line3d.hpp"
+#include "geometry/triangulation.hpp"
+
+namespace vkvo::system {
+
+struct StereoPoints {
+  std::vector<double> right_x;                              // per left keypoint, -1 when not stereo-matched
+  std::vector<std::optional<Eigen::Vector3d>> positions;    // per left keypoint, left camera frame
+  int count = 0;                                            // triangulated keypoints
+};
+
+// Keeps the left<->right matches that pass the row and depth gates and triangulates them.
+StereoPoints triangulate_stereo_points(const geometry::StereoCamera& stereo, const features::PointFeatures& left,
+                                       const features::PointFeatures& right, const features::PointMatches& matches,
+                                       const geometry::TriangulationParams& params);
+
+struct StereoLines {
+  std::vector<std::optional<geometry::Segment2d>> right;                 // per left line
+  std::vector<std::optional<geometry::PlueckerLine>> lines;             // per left line, left camera frame
+  int planes = 0, points = 0;                                            // lines per triangulation method
+};
+
+// Matches left and right lines through the stereo point matches (paper eq. 2) and triangulates each left line:
+// from the two back-projected planes when it has a right partner, else (or when the planes are degenerate) from
+// two of its stereo-triangulated points (the two nearest the segment, as the paper prescribes).
+StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo,
+                                     const std::vector<features::LineSegment>& left_lines,
+                                     const features::PointLineAssociation& left_association,
+                                     const std::vector<features::LineSegment>& right_lines,
+                                     const features::PointLineAssociation& right_association,
+                                     const std::vector<int>& stereo_matches, const features::PointFeatures& left_points,
+                                     const StereoPoints& stereo_points, const features::LineMatchParams& match_params,
+                                     const geometry::TriangulationParams& params);
+
+geometry::Segment2d to_segment(const features::LineSegment& line);
+
+}  // namespace vkvo::system

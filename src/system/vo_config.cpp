@@ -1,0 +1,45 @@
+#include "system/vo_config.hpp"
+
+#include <stdexcept>
+
+namespace vkvo::system {
+
+TrackingParams load_tracking_params(const YAML::Node& section) {
+  TrackingParams p;
+  io::read_param(section, "min_num_match", p.min_num_match);
+  io::read_param(section, "init_min_keypoints", p.init_min_keypoints);
+  io::read_param(section, "init_min_stereo", p.init_min_stereo);
+  io::read_param(section, "use_lines", p.use_lines);
+  io::read_param(section, "queue_capacity", p.queue_capacity);
+  if (p.queue_capacity < 1) throw std::runtime_error("tracking.queue_capacity must be at least 1");
+  return p;
+}
+
+VoConfig load_vo_config(const io::Config& config) {
+  VoConfig vo;
+  vo.origin = config.origin();
+  vo.tracking = load_tracking_params(config.section("tracking"));
+  vo.lines = features::load_line_pipeline_params(config.section("lines"));
+  vo.triangulation = geometry::load_triangulation_params(config.section("stereo"));
+  vo.optimization = backend::load_optimization_params(config.section("optimization"));
+  vo.keyframe = backend::load_keyframe_params(config.section("keyframe"));
+  vo.map = map::load_map_params(config.section("map"));
+  vo.point_detector = config.section("point_detector");
+  vo.point_matcher = config.section("point_matcher");
+  vo.nn_matcher = config.section("nn_matcher");
+  vo.camera = config.section("camera");
+  const YAML::Node models = config.section("models");
+  io::read_param(models, "matcher", vo.matcher);
+  if (vo.matcher != "superglue" && vo.matcher != "nn")
+    throw std::runtime_error(config.origin() + ": models.matcher must be 'superglue' or 'nn', not '" + vo.matcher + "'");
+  std::string superpoint, superglue;
+  io::read_param(models, "superpoint", superpoint);
+  io::read_param(models, "superglue", superglue);
+  vo.superpoint_model = superpoint;
+  vo.superglue_model = superglue;
+  return vo;
+}
+
+VoConfig load_vo_config(const std::filesystem::path& file) { return load_vo_config(io::Config::load(file)); }
+
+}  // namespace vkvo::system

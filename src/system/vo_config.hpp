@@ -1,0 +1,47 @@
+#pragma once
+// Every parameter of the VO, read from one YAML file (config/euroc.yaml, config/kitti.yaml, ...). Each section is
+// loaded by the module that owns it; a missing key keeps the reference default.
+#include <filesystem>
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+#include "backend/params.hpp"
+#include "features/lines/line_params.hpp"
+#include "geometry/triangulation.hpp"
+#include "io/config.hpp"
+#include "map/map.hpp"
+
+namespace vkvo::system {
+
+// YAML section `tracking`.
+struct TrackingParams {
+  int min_num_match = 30;       // fewer matches to the last keyframe: match against the last frame instead
+  int init_min_keypoints = 150; // a frame starts the map with at least this many keypoints ...
+  int init_min_stereo = 100;    // ... and this many triangulated stereo matches
+  bool use_lines = true;        // false: the paper's "w/o line" ablation
+  int queue_capacity = 2;       // frames in flight between the feature and the optimisation stage
+};
+TrackingParams load_tracking_params(const YAML::Node& section);
+
+struct VoConfig {
+  std::filesystem::path origin;  // the file it came from
+  TrackingParams tracking;
+  features::LinePipelineParams lines;              // section lines: detector, association, matching
+  geometry::TriangulationParams triangulation;     // section stereo
+  backend::OptimizationParams optimization;        // section optimization
+  backend::KeyframeParams keyframe;                // section keyframe
+  map::MapParams map;                              // section map
+  YAML::Node point_detector;                       // SuperPoint parameters (features/superpoint.hpp)
+  YAML::Node point_matcher;                        // SuperGlue parameters (features/superglue.hpp)
+  YAML::Node nn_matcher;                           // mutual-nearest-neighbour fallback (features/nn_matcher.hpp)
+  YAML::Node camera;                               // calibration overrides (io::apply_camera_overrides)
+  std::string matcher = "superglue";               // superglue | nn   (section models: matcher)
+  std::filesystem::path superpoint_model;          // section models: superpoint (pack path; may be empty)
+  std::filesystem::path superglue_model;           // section models: superglue
+};
+
+VoConfig load_vo_config(const io::Config& config);
+VoConfig load_vo_config(const std::filesystem::path& file);
+
+}  // namespace vkvo::system
