@@ -74,8 +74,8 @@ MaxPool2x2::MaxPool2x2(const Context& context, Precision precision)
 void MaxPool2x2::record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Buffer& output,
                         std::uint32_t out_pad, std::string label) const {
   const PoolPush push{in.channels, in.height, in.width, in.pad, out_pad};
-  const std::size_t outputs = std::size_t(in.channels) * (in.height / 2) * (in.width / 2);
-  seq.dispatch(kernel_, {input, output}, push, {groups_for(outputs, 64)},
+  const std::size_t plane = std::size_t(in.height / 2) * (in.width / 2);
+  seq.dispatch(kernel_, {input, output}, push, {groups_for(plane, 64), in.channels},
                label.empty() ? "maxpool2x2" : std::move(label));
 }
 

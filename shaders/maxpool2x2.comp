@@ -18,10 +18,11 @@ layout(push_constant) uniform Params {
 
 void main() {
   const uint out_h = p.in_height / 2u, out_w = p.in_width / 2u;
+  // x: pixel of one output plane, y: channel (a 1-D grid would exceed the 65535-group limit on large images)
   const uint i = gl_GlobalInvocationID.x;
-  if (i >= p.channels * out_h * out_w) return;
-  const uint c = i / (out_h * out_w);
-  const uint y = (i / out_w) % out_h;
+  const uint c = gl_GlobalInvocationID.y;
+  if (i >= out_h * out_w || c >= p.channels) return;
+  const uint y = i / out_w;
   const uint x = i % out_w;
   const uint r = chw_index(c, 2u * y, 2u * x, p.in_height, p.in_width, p.in_pad);
   const uint row = p.in_width + 2u * p.in_pad;

@@ -142,7 +142,9 @@ SuperPointPlan::SuperPointPlan(const rt::Context& ctx, const SuperPointNetwork& 
   // bound in practice; an overflow is reported by keypoint_count().
   const std::size_t pixels = std::size_t(cells_h_) * cells_w_ * 64;
   capacity_ = static_cast<std::uint32_t>(std::min(pixels, pixels / ((radius_ + 1) * (radius_ + 1)) + 4096));
-  max_keypoints_ = params.max_keypoints > 0 ? std::min<std::uint32_t>(params.max_keypoints, capacity_) : capacity_;
+  // One sampling workgroup per keypoint: at most 65535 (the guaranteed maxComputeWorkGroupCount).
+  max_keypoints_ = std::min<std::uint32_t>(
+      params.max_keypoints > 0 ? std::min<std::uint32_t>(params.max_keypoints, capacity_) : capacity_, 65535u);
   candidates_ = rt::Buffer(ctx, std::size_t(capacity_) * 8, rt::BufferKind::device, "superpoint.candidates");
   order_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * 4, rt::BufferKind::device, "superpoint.order");
   keypoints_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * 8, rt::BufferKind::device, "superpoint.keypoints");
