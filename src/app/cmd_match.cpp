@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
+#include <sstream>
 #include <string>
 
 #include <fmt/format.h>
@@ -18,6 +19,7 @@
 #include "features/superglue.hpp"
 #include "io/config.hpp"
 #include "io/npy.hpp"
+#include "io/yaml_utils.hpp"
 
 namespace {
 
