@@ -114,5 +114,20 @@ TEST(ApplyGain, MatchesThePointwiseGainField) {
   EXPECT_LT(worst, 1e-3);  // float vs double evaluation of the same Gaussian
 }
 
+// Gamma flicker: gamma 0.5 and 2.0 on alternate frames, applied to intensities normalised by the full scale.
+TEST(FrameGain, GammaFlickerAlternatesAndMapsIntensitiesExactly) {
+  const std::vector<IlluminationEvent> events{parse_event("gamma:10-13")};
+  EXPECT_EQ(frame_gain(events, 9, 0, 8, 8).gamma, 1.0);
+  EXPECT_EQ(frame_gain(events, 10, 0, 8, 8).gamma, 0.5);
+  EXPECT_EQ(frame_gain(events, 11, 1, 8, 8).gamma, 2.0);
+  EXPECT_EQ(frame_gain(events, 14, 0, 8, 8).gamma, 1.0);
+  cv::Mat image(2, 2, CV_32F, cv::Scalar(63.75f));  // a quarter of full scale
+  apply_gain(frame_gain(events, 10, 0, 2, 2), image);
+  EXPECT_NEAR(image.at<float>(0, 0), 127.5f, 1e-3f);  // 255 * 0.25^0.5
+  cv::Mat image16(2, 2, CV_32F, cv::Scalar(32767.5f));
+  apply_gain(frame_gain(events, 11, 0, 2, 2), image16, 65535.0);
+  EXPECT_NEAR(image16.at<float>(0, 0), 16383.75f, 1e-1f);  // 65535 * 0.5^2
+}
+
 }  // namespace
 }  // namespace vkvo::synth

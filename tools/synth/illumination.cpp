@@ -24,7 +24,8 @@ constexpr KindName kKindNames[] = {
     {"overexposure", EventKind::overexposure}, {"overexpose", EventKind::overexposure},
     {"flicker", EventKind::flicker},         {"spotlight", EventKind::spotlight},
     {"spot", EventKind::spotlight},          {"stereo_exposure", EventKind::stereo_exposure},
-    {"stereo", EventKind::stereo_exposure},
+    {"stereo", EventKind::stereo_exposure},  {"gamma", EventKind::gamma_flicker},
+    {"gamma_flicker", EventKind::gamma_flicker},
 };
 
 std::string_view trim(std::string_view s) {
@@ -77,6 +78,7 @@ std::string_view kind_name(EventKind kind) {
     case EventKind::flicker: return "flicker";
     case EventKind::spotlight: return "spotlight";
     case EventKind::stereo_exposure: return "stereo_exposure";
+    case EventKind::gamma_flicker: return "gamma";
   }
   return "?";
 }
@@ -93,6 +95,7 @@ IlluminationEvent make_event(EventKind kind, int first_frame, int last_frame) {
     case EventKind::flicker: event.gain = 1.0; break;
     case EventKind::spotlight: event.gain = 1.6; break;
     case EventKind::stereo_exposure: event.gain = 0.5; event.cameras = CameraMask::right; break;
+    case EventKind::gamma_flicker: event.gain = 0.5; break;  // gamma 0.5 / 2.0 on alternate frames
   }
   return event;
 }
@@ -110,7 +113,7 @@ IlluminationEvent parse_event(std::string_view spec) {
                                    [&](const KindName& k) { return k.name == name; });
   if (found == std::end(kKindNames))
     throw std::runtime_error(fmt::format("illumination event '{}': unknown kind '{}' (lights_off, dim, "
-                                         "overexposure, flicker, spotlight, stereo_exposure)", whole, name));
+                                         "overexposure, flicker, spotlight, stereo_exposure, gamma)", whole, name));
   int first = 0, last = -1;
   if (colon != std::string_view::npos) {
     const std::string_view range = trim(head.substr(colon + 1));
@@ -198,6 +201,10 @@ FrameGain frame_gain(const std::vector<IlluminationEvent>& events, int frame, in
         if (frame < e.first_frame || frame > last) break;
         result.global *= 1.0 - e.depth * 0.5 * (1.0 - std::cos(2 * kPi * (frame - e.first_frame) / e.period_frames));
         break;
+      case EventKind::gamma_flicker:
+        if (frame < e.first_frame || frame > last) break;
+        result.gamma *= (frame - e.first_frame) % 2 == 0 ? e.gain : 1.0 / e.gain;
+        break;
       case EventKind::spotlight: {
         if (frame < e.first_frame || frame > last) break;
         // Sweeps from 15% to 85% of the width over the range (one sweep per 100 frames when open-ended), and
@@ -213,7 +220,8 @@ FrameGain frame_gain(const std::vector<IlluminationEvent>& events, int frame, in
   return result;
 }
 
-void apply_gain(const FrameGain& gain, cv::Mat& image) {
+// Gains first (they model light), then the tone curve (it models the camera's response).
+void apply_gain(const FrameGain& gain, cv::Mat& image, double full_scale) {
   CV_Assert(image.type() == CV_32FC1);
   if (gain.is_identity()) return;
   image *= gain.global;
@@ -228,6 +236,13 @@ void apply_gain(const FrameGain& gain, cv::Mat& image) {
       float* row = image.ptr<float>(y);
       for (int x = 0; x < image.cols; ++x) row[x] *= ambient + swing * gx[x] * gy;
     }
+  }
+  if (gain.gamma == 1.0) return;
+  const auto scale = static_cast<float>(full_scale);
+  const auto gamma = static_cast<float>(gain.gamma);
+  for (int y = 0; y < image.rows; ++y) {
+    float* row = image.ptr<float>(y);
+    for (int x = 0; x < image.cols; ++x) row[x] = scale * std::pow(std::max(row[x], 0.0f) / scale, gamma);
   }
 }
 

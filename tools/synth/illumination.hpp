@@ -18,6 +18,7 @@ enum class EventKind {
   flicker,          // gain 1 - depth * (1 - cos(2 pi (k - first) / period)) / 2 inside the range
   spotlight,        // beam of gain `gain` over `ambient`, Gaussian of width sigma * image width, sweeping left->right
   stereo_exposure,  // the cameras in `cameras` (default: right only) get exposure gain `gain`
+  gamma_flicker,    // tone curve v' = v^g on normalised intensities, g alternating between `gain` and 1/`gain`
 };
 
 enum class CameraMask { both, left, right };
@@ -40,7 +41,7 @@ IlluminationEvent make_event(EventKind kind, int first_frame, int last_frame);
 
 // Parses "kind[:first[-last]][,key=value...]", e.g. "lights_off:95-104", "dim:50-120,gain=0.1",
 // "spotlight:0-199,sigma=0.2,ambient=0.25", "stereo:0-,gain=0.5,cam=right". Kinds: lights_off|off, dim|dimming,
-// overexposure|overexpose, flicker, spotlight|spot, stereo_exposure|stereo. Keys: gain, ambient, depth, period,
+// overexposure|overexpose, flicker, spotlight|spot, stereo_exposure|stereo, gamma|gamma_flicker. Keys: gain, ambient, depth, period,
 // sigma, ramp, cam (both|left|right). Throws std::runtime_error naming the spec and the problem.
 IlluminationEvent parse_event(std::string_view spec);
 std::vector<IlluminationEvent> parse_events(const std::vector<std::string>& specs);
@@ -57,15 +58,17 @@ struct Beam {
 struct FrameGain {
   double global = 1.0;
   std::vector<Beam> beams;
+  double gamma = 1.0;  // tone curve applied after the gains (gamma_flicker)
 
-  bool is_identity() const { return beams.empty() && global == 1.0; }
+  bool is_identity() const { return beams.empty() && global == 1.0 && gamma == 1.0; }
   double at(double x, double y) const;  // gain at pixel (x, y)
 };
 
 // Combined gain of all events at frame `frame` (0-based) for camera 0 (left) or 1 (right) of a width x height image.
 FrameGain frame_gain(const std::vector<IlluminationEvent>& events, int frame, int camera, int width, int height);
 
-// Multiplies a single-channel CV_32F image of linear intensities by the gain field, in place.
-void apply_gain(const FrameGain& gain, cv::Mat& linear_image);
+// Multiplies a single-channel CV_32F image of linear intensities by the gain field, then applies the tone curve
+// (gamma) relative to `full_scale` (255 for 8-bit data), in place.
+void apply_gain(const FrameGain& gain, cv::Mat& linear_image, double full_scale = 255.0);
 
 }  // namespace vkvo::synth

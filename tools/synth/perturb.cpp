@@ -95,7 +95,7 @@ cv::Mat perturb_image(const cv::Mat& image, const FrameGain& gain, double noise_
   for (cv::Mat& channel : channels) {
     cv::Mat linear;
     channel.convertTo(linear, CV_32F);
-    apply_gain(gain, linear);
+    apply_gain(gain, linear, image.depth() == CV_16U ? 65535.0 : 255.0);
     if (noise_sigma > 0) {
       const auto sigma = static_cast<float>(noise_sigma);
       for (int y = 0; y < linear.rows; ++y) {
