@@ -10,6 +10,7 @@ namespace vkvo::rt {
 namespace {
 
 constexpr vk::BufferUsageFlags kUsage = vk::BufferUsageFlagBits::eStorageBuffer |
+                                        vk::BufferUsageFlagBits::eUniformTexelBuffer |
                                         vk::BufferUsageFlagBits::eTransferSrc |
                                         vk::BufferUsageFlagBits::eTransferDst;
 

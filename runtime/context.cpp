@@ -84,6 +84,7 @@ DeviceCaps query_caps(const vk::raii::PhysicalDevice& device, std::uint32_t inde
   caps.max_workgroup_invocations = props.limits.maxComputeWorkGroupInvocations;
   caps.max_shared_memory_bytes = props.limits.maxComputeSharedMemorySize;
   caps.max_storage_buffer_range = props.limits.maxStorageBufferRange;
+  caps.max_texel_buffer_elements = props.limits.maxTexelBufferElements;
   caps.timestamp_period_ns = props.limits.timestampPeriod;
 
   const bool api12 = props.apiVersion >= VK_API_VERSION_1_2;
@@ -106,6 +107,8 @@ DeviceCaps query_caps(const vk::raii::PhysicalDevice& device, std::uint32_t inde
   const auto& subgroup = props2.get<vk::PhysicalDeviceSubgroupProperties>();
   caps.subgroup_size = subgroup.subgroupSize;
   caps.subgroup_arithmetic = static_cast<bool>(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eArithmetic);
+  caps.subgroup_ballot = static_cast<bool>(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eBallot);
+  caps.subgroup_compute = static_cast<bool>(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute);
   if (api12) {
     auto driver = device.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties>();
     const auto& d = driver.get<vk::PhysicalDeviceDriverProperties>();
@@ -312,6 +315,11 @@ Context::Context(const ContextOptions& options)
   pipeline_cache_ = device_.createPipelineCache({.initialDataSize = cache_data.size(),
                                                  .pInitialData = cache_data.empty() ? nullptr : cache_data.data()});
   spdlog::debug("Vulkan device: {} ({}), validation {}", caps_.name, caps_.type, validation_enabled_ ? "on" : "off");
+}
+
+bool Context::supports_uniform_texel_format(vk::Format format) const {
+  return static_cast<bool>(physical_device_.getFormatProperties(format).bufferFeatures &
+                           vk::FormatFeatureFlagBits::eUniformTexelBuffer);
 }
 
 Context::~Context() {

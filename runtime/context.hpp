@@ -41,18 +41,23 @@ struct DeviceCaps {
   bool storage_8bit = false;
   std::uint32_t subgroup_size = 0;
   bool subgroup_arithmetic = false;
+  bool subgroup_ballot = false;  // subgroupBroadcast & co.
+  bool subgroup_compute = false;  // subgroup operations are available in compute shaders
   bool timestamps = false;
   double timestamp_period_ns = 0;
   bool unified_memory = false;  // every device-local heap is host visible (lavapipe, Jetson, phones)
   std::uint32_t max_workgroup_invocations = 0;
   std::uint32_t max_shared_memory_bytes = 0;
   std::uint64_t max_storage_buffer_range = 0;
+  std::uint32_t max_texel_buffer_elements = 0;
   std::vector<MemoryHeap> heaps;
 
   bool supports(Precision p) const;
   // fp16 math where the device has it natively (GPUs), fp16 storage with fp32 math on CPU devices (lavapipe
   // emulates fp16 math, ~7x slower), fp32 where there is no 16-bit storage.
   Precision preferred_precision() const;
+  // Compute shaders can broadcast a value from one of the first 8 lanes of a subgroup to the others.
+  bool subgroup_broadcast8() const { return subgroup_compute && subgroup_ballot && subgroup_size >= 8; }
 };
 
 struct ContextOptions {
@@ -84,6 +89,8 @@ class Context {
 
   const vk::raii::Device& device() const { return device_; }
   const vk::raii::PhysicalDevice& physical_device() const { return physical_device_; }
+  // Whether shaders can read `format` through a uniform texel buffer (samplerBuffer).
+  bool supports_uniform_texel_format(vk::Format format) const;
   const vk::raii::Queue& queue() const { return queue_; }
   std::uint32_t queue_family() const { return queue_family_; }
   const vk::raii::PipelineCache& pipeline_cache() const { return pipeline_cache_; }

@@ -17,9 +17,14 @@ Kernel::Kernel(const Context& context, KernelSpec spec) : spec_(std::move(spec))
   const auto& device = context.device();
 
   std::vector<vk::DescriptorSetLayoutBinding> bindings;
-  for (std::uint32_t b = 0; b < spec_.bindings; ++b)
-    bindings.push_back({.binding = b, .descriptorType = vk::DescriptorType::eStorageBuffer, .descriptorCount = 1,
+  for (std::uint32_t b = 0; b < spec_.bindings; ++b) {
+    const vk::Format format = spec_.texel_format(b);
+    if (format != vk::Format::eUndefined && !context.supports_uniform_texel_format(format))
+      throw VulkanError(fmt::format("device '{}' cannot read {} through uniform texel buffers ({}, binding {})",
+                                    context.caps().name, vk::to_string(format), spec_.op, b));
+    bindings.push_back({.binding = b, .descriptorType = spec_.descriptor_type(b), .descriptorCount = 1,
                         .stageFlags = vk::ShaderStageFlagBits::eCompute});
+  }
   set_layout_ = device.createDescriptorSetLayout(
       {.bindingCount = static_cast<std::uint32_t>(bindings.size()), .pBindings = bindings.data()});
 

@@ -1,6 +1,7 @@
 #pragma once
-// One compute pipeline: an embedded shader variant + its descriptor layout (N storage buffers at set 0,
-// bindings 0..N-1), push-constant block and specialization constants.
+// One compute pipeline: an embedded shader variant + its descriptor layout (N buffers at set 0, bindings
+// 0..N-1: storage buffers, or uniform texel buffers where the spec names a texel format), push-constant block
+// and specialization constants.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -20,6 +21,18 @@ struct KernelSpec {
   std::uint32_t written_bindings = 0;   // bit i set: binding i is written (drives barrier placement)
   std::uint32_t push_constant_bytes = 0;
   std::vector<std::uint32_t> specialization;  // value of constant_id i (ints, or floats bit-cast)
+  // Per binding (may be shorter than `bindings`): eUndefined = storage buffer, else a read-only uniform texel
+  // buffer (GLSL samplerBuffer) viewed with this format. CPU drivers fetch texels with vector gathers where
+  // they load storage buffers one lane at a time, so hot read-only operands are read through texel views.
+  std::vector<vk::Format> texel_formats;
+
+  vk::Format texel_format(std::uint32_t binding) const {
+    return binding < texel_formats.size() ? texel_formats[binding] : vk::Format::eUndefined;
+  }
+  vk::DescriptorType descriptor_type(std::uint32_t binding) const {
+    return texel_format(binding) == vk::Format::eUndefined ? vk::DescriptorType::eStorageBuffer
+                                                           : vk::DescriptorType::eUniformTexelBuffer;
+  }
 };
 
 class Kernel {

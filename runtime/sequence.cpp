@@ -1,5 +1,7 @@
 #include "runtime/sequence.hpp"
 
+#include <array>
+
 #include <fmt/format.h>
 
 #include "runtime/buffer.hpp"
@@ -33,6 +35,7 @@ Sequence::~Sequence() = default;
 void Sequence::begin() {
   descriptor_sets_.clear();  // freed back to their pools before recording anew
   descriptor_pools_.clear();
+  buffer_views_.clear();
   sets_in_current_pool_ = kSetsPerPool;
   pending_.clear();
   labels_.clear();
@@ -96,11 +99,14 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
   if (groups.x == 0 || groups.y == 0 || groups.z == 0) return;  // nothing to do (e.g. zero keypoints)
 
   if (sets_in_current_pool_ == kSetsPerPool) {
-    const vk::DescriptorPoolSize size{.type = vk::DescriptorType::eStorageBuffer,
-                                      .descriptorCount = kSetsPerPool * kMaxBindingsPerSet};
+    const std::array<vk::DescriptorPoolSize, 2> sizes{
+        vk::DescriptorPoolSize{.type = vk::DescriptorType::eStorageBuffer,
+                               .descriptorCount = kSetsPerPool * kMaxBindingsPerSet},
+        vk::DescriptorPoolSize{.type = vk::DescriptorType::eUniformTexelBuffer,
+                               .descriptorCount = kSetsPerPool * kMaxBindingsPerSet}};
     descriptor_pools_.push_back(context_->device().createDescriptorPool(
         {.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, .maxSets = kSetsPerPool,
-         .poolSizeCount = 1, .pPoolSizes = &size}));
+         .poolSizeCount = static_cast<std::uint32_t>(sizes.size()), .pPoolSizes = sizes.data()}));
     sets_in_current_pool_ = 0;
   }
   const vk::DescriptorSetLayout set_layout = kernel.set_layout();
@@ -111,15 +117,25 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
   const vk::DescriptorSet set = *descriptor_sets_.back();
 
   std::vector<vk::DescriptorBufferInfo> infos;
+  std::vector<vk::BufferView> views(bindings.size());
   infos.reserve(bindings.size());
-  for (const auto& b : bindings) {
+  for (std::uint32_t i = 0; i < bindings.size(); ++i) {
+    const auto& b = bindings[i];
     infos.push_back({.buffer = b.buffer->handle(), .offset = b.offset, .range = b.range});
     track(b.buffer->handle(), Access::read);
+    if (const vk::Format format = spec.texel_format(i); format != vk::Format::eUndefined) {
+      if (kernel.writes(i))
+        throw VulkanError(fmt::format("kernel '{}': binding {} is a read-only texel buffer", spec.op, i));
+      buffer_views_.push_back(context_->device().createBufferView(
+          {.buffer = b.buffer->handle(), .format = format, .offset = b.offset, .range = b.range}));
+      views[i] = *buffer_views_.back();
+    }
   }
   std::vector<vk::WriteDescriptorSet> writes;
   for (std::uint32_t i = 0; i < infos.size(); ++i) {
-    writes.push_back({.dstSet = set, .dstBinding = i, .descriptorCount = 1,
-                      .descriptorType = vk::DescriptorType::eStorageBuffer, .pBufferInfo = &infos[i]});
+    const bool texel = views[i] != vk::BufferView{};
+    writes.push_back({.dstSet = set, .dstBinding = i, .descriptorCount = 1, .descriptorType = spec.descriptor_type(i),
+                      .pBufferInfo = texel ? nullptr : &infos[i], .pTexelBufferView = texel ? &views[i] : nullptr});
     if (kernel.writes(i)) next_accesses_[next_accesses_.size() - infos.size() + i] = Access::write;
   }
   context_->device().updateDescriptorSets(writes, {});

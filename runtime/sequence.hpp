@@ -85,6 +85,7 @@ class Sequence {
   std::uint32_t max_queries_ = 0;
   std::vector<vk::raii::DescriptorPool> descriptor_pools_;
   std::vector<vk::raii::DescriptorSet> descriptor_sets_;
+  std::vector<vk::raii::BufferView> buffer_views_;  // texel views of the recorded dispatches
   std::uint32_t sets_in_current_pool_ = 0;
 
   // Buffers accessed since the last barrier, and whether they were written.

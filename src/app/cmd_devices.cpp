@@ -21,8 +21,8 @@ int list_all() {
     if (!d.driver.empty()) fmt::print("    driver {}\n", d.driver);
     fmt::print("    fp16 arithmetic {}, 16-bit storage {}, 8-bit storage {}, int8 arithmetic {}\n",
                yes_no(d.float16_arithmetic), yes_no(d.storage_16bit), yes_no(d.storage_8bit), yes_no(d.int8_arithmetic));
-    fmt::print("    subgroup size {} (arithmetic {}), max workgroup {} invocations, shared memory {} KiB\n",
-               d.subgroup_size, yes_no(d.subgroup_arithmetic), d.max_workgroup_invocations, d.max_shared_memory_bytes / 1024);
+    fmt::print("    subgroup size {} (arithmetic {}, broadcast {}), max workgroup {} invocations, shared memory {} KiB\n",
+               d.subgroup_size, yes_no(d.subgroup_arithmetic), yes_no(d.subgroup_ballot && d.subgroup_compute), d.max_workgroup_invocations, d.max_shared_memory_bytes / 1024);
     fmt::print("    timestamps {} ({:.3f} ns/tick), unified memory {}, max storage buffer {} MiB\n", yes_no(d.timestamps),
                d.timestamp_period_ns, yes_no(d.unified_memory), d.max_storage_buffer_range >> 20);
     for (std::size_t h = 0; h < d.heaps.size(); ++h)
