@@ -30,12 +30,38 @@ struct GemmPush {
 // Output rows per invocation (ROWS in shaders/gemm.comp).
 constexpr std::uint32_t kGemmRows = 3;
 
-KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size) {
+// Output channels and pixels per invocation of conv3x3_subgroup.comp.
+constexpr std::uint32_t kSubgroupConvChannels = 8, kSubgroupConvPixels = 4, kSubgroupConvRows = 2;
+
+// conv3x3_subgroup reads activations (one value per texel) and weights (4 output channels per texel) through
+// uniform texel buffers in the storage precision.
+vk::Format activation_texel_format(Precision precision) {
+  return precision == Precision::fp32 ? vk::Format::eR32Sfloat : vk::Format::eR16Sfloat;
+}
+vk::Format weight_texel_format(Precision precision) {
+  return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR16G16B16A16Sfloat;
+}
+
+bool use_subgroup_conv(const Context& context, Precision precision, std::uint32_t kernel_size, Conv3x3Kernel choice) {
+  if (kernel_size != 3 || choice == Conv3x3Kernel::direct) return false;
+  const bool available = context.caps().subgroup_broadcast8() &&
+                         context.supports_uniform_texel_format(activation_texel_format(precision)) &&
+                         context.supports_uniform_texel_format(weight_texel_format(precision));
+  if (choice == Conv3x3Kernel::subgroup && !available)
+    throw std::invalid_argument(
+        "Conv2d: the subgroup 3x3 kernel needs subgroup broadcasts over >= 8 lanes and texel-buffer reads");
+  return available;
+}
+
+KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool subgroup) {
   if (kernel_size != 1 && kernel_size != 3) throw std::invalid_argument("Conv2d: kernel size must be 1 or 3");
-  return {.op = kernel_size == 3 ? "conv3x3" : "conv1x1", .precision = precision, .bindings = 4,
+  std::vector<vk::Format> texel_formats;
+  if (subgroup) texel_formats = {activation_texel_format(precision), weight_texel_format(precision)};
+  return {.op = kernel_size == 1 ? "conv1x1" : subgroup ? "conv3x3_subgroup" : "conv3x3", .precision = precision,
+          .bindings = 4,
           .written_bindings = 1u << 3,
           .push_constant_bytes = kernel_size == 3 ? std::uint32_t(sizeof(ConvPush)) : std::uint32_t(sizeof(Conv1x1Push)),
-          .specialization = {kGroupX, kGroupY}};
+          .specialization = {kGroupX, kGroupY}, .texel_formats = std::move(texel_formats)};
 }
 
 }  // namespace
@@ -44,8 +70,11 @@ std::size_t activation_bytes(const ActivationShape& shape, Precision precision) 
   return shape.elements() * storage_bytes(precision);
 }
 
-Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel_size)
-    : kernel_size_(kernel_size), kernel_(context, conv_spec(precision, kernel_size)) {}
+Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel_size, Conv3x3Kernel choice)
+    : kernel_size_(kernel_size),
+      subgroup_(use_subgroup_conv(context, precision, kernel_size, choice)),
+      max_texel_elements_(context.caps().max_texel_buffer_elements),
+      kernel_(context, conv_spec(precision, kernel_size, subgroup_)) {}
 
 void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
                     const Binding& bias, const Buffer& output, const ActivationShape& out, bool relu,
@@ -56,8 +85,14 @@ void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& i
   if (kernel_size_ == 3) {
     if (in.pad != 1) throw std::invalid_argument("Conv2d 3x3: the input needs a 1-pixel zero border");
     const ConvPush push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
-    seq.dispatch(kernel_, {input, weights, bias, output}, push,
-                 {groups_for(groups_for(in.width, 3), kGroupX), groups_for(in.height, kGroupY), blocks},
+    if (subgroup_ && in.elements() > max_texel_elements_)
+      throw std::invalid_argument(fmt::format("Conv2d: {} input values exceed the device's {} texel-buffer elements",
+                                              in.elements(), max_texel_elements_));
+    const std::uint32_t column_groups = groups_for(groups_for(in.width, subgroup_ ? kSubgroupConvPixels : 3), kGroupX);
+    const Groups groups = subgroup_ ? Groups{groups_for(out.channels, kSubgroupConvChannels), column_groups,
+                                             groups_for(groups_for(in.height, kSubgroupConvRows), kGroupY)}
+                                    : Groups{column_groups, groups_for(in.height, kGroupY), blocks};
+    seq.dispatch(kernel_, {input, weights, bias, output}, push, groups,
                  label.empty() ? fmt::format("conv3x3 {}->{}", in.channels, out.channels) : std::move(label));
   } else {
     const Conv1x1Push push{in.channels, out.channels, in.height, in.width, in.pad, out.pad, relu ? 1u : 0u};

@@ -23,9 +23,17 @@ std::size_t activation_bytes(const ActivationShape& shape, Precision precision);
 // 3x3 (stride 1, pad 1; input must carry a 1-pixel zero border) or 1x1 convolution + bias (+ ReLU).
 // Weights in the "o4" layout (runtime/tensor_layout.hpp) at the op's storage precision; bias fp32, padded to 4.
 // Weights and bias may be ranges of one buffer (e.g. a model pack's data block bound at each tensor's offset).
+// Which shader runs a 3x3 convolution: `subgroup` (conv3x3_subgroup.comp: 8 output channels x 4 pixels per
+// invocation, weights shared through subgroup broadcasts, operands read through texel buffers) where the
+// device can broadcast within subgroups of 8 or more, else `direct` (conv3x3.comp: 4 x 3, storage-buffer
+// loads). Both read the same weight layout.
+enum class Conv3x3Kernel { automatic, direct, subgroup };
+
 class Conv2d {
  public:
-  Conv2d(const Context& context, Precision precision, std::uint32_t kernel_size);
+  Conv2d(const Context& context, Precision precision, std::uint32_t kernel_size,
+         Conv3x3Kernel choice = Conv3x3Kernel::automatic);
+  bool uses_subgroup_kernel() const { return subgroup_; }
   void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
               const Binding& bias, const Buffer& output, const ActivationShape& out, bool relu,
               std::string label = {}) const;
@@ -35,6 +43,8 @@ class Conv2d {
 
  private:
   std::uint32_t kernel_size_;
+  bool subgroup_;
+  std::size_t max_texel_elements_;
   Kernel kernel_;
 };
 

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <random>
 
 #include <fmt/format.h>
 
+#include "runtime/half.hpp"
 #include "runtime/ops.hpp"
 #include "runtime/tensor_layout.hpp"
 
@@ -23,6 +25,17 @@ double time_sequence(rt::Sequence& seq, int repeat, bool timestamps) {
     samples.push_back(timestamps ? seq.gpu_ms() : wall);
   }
   return median_ms(samples);
+}
+
+// Uniform values in [-1, 1] at the storage precision: real data, so that timings include whatever the device
+// does differently for non-zero operands (zero-filled buffers would flatter a CPU driver).
+void fill_random(rt::Buffer& buffer, rt::Precision precision, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+  std::vector<float> values(buffer.size() / rt::storage_bytes(precision));
+  for (float& v : values) v = uniform(rng);
+  const auto bytes = rt::encode_storage(values, precision);
+  buffer.upload(bytes.data(), bytes.size());
 }
 
 }  // namespace
@@ -45,26 +58,33 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
   struct ConvCase {
     std::uint32_t in_c, out_c, h, w, k;
   };
+  // Every 3x3 case runs with each kernel the device has (the subgroup kernel is what the networks use where
+  // available; the direct one is the fallback), so the gain of one over the other is measured, not assumed.
+  std::vector<rt::Conv3x3Kernel> kernels3x3{rt::Conv3x3Kernel::direct};
+  if (ctx.caps().subgroup_broadcast8()) kernels3x3.insert(kernels3x3.begin(), rt::Conv3x3Kernel::subgroup);
   for (const ConvCase c : {ConvCase{64, 64, 240, 376, 3}, ConvCase{1, 64, 480, 752, 3}, ConvCase{64, 64, 480, 752, 3},
                            ConvCase{128, 256, 60, 94, 3}, ConvCase{256, 65, 60, 94, 1}}) {
-    const rt::ActivationShape in{c.in_c, c.h, c.w, c.k == 3 ? 1u : 0u};
-    const rt::ActivationShape out{c.out_c, c.h, c.w, 1};
-    rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));
-    rt::Buffer out_buf(ctx, rt::activation_bytes(out, precision));
-    rt::Buffer w_buf(ctx, rt::round_up(c.out_c, 4) * c.in_c * c.k * c.k * rt::storage_bytes(precision));
-    rt::Buffer b_buf(ctx, rt::round_up(c.out_c, 4) * sizeof(float));
-    in_buf.fill_zero();
-    w_buf.fill_zero();
-    b_buf.fill_zero();
-    const rt::Conv2d conv(ctx, precision, c.k);
-    rt::Sequence seq(ctx);
-    seq.begin();
-    conv.record(seq, in_buf, in, w_buf, b_buf, out_buf, out, true);
-    seq.end();
-    const double ms = time_sequence(seq, repeat, timestamps);
-    const double bytes = (double(in.elements()) + double(out.elements())) * elem;
-    results.push_back({fmt::format("conv{}x{} {}->{} @{}x{}", c.k, c.k, c.in_c, c.out_c, c.w, c.h), name, ms,
-                       rt::Conv2d::flops(in, c.out_c, c.k) / (ms * 1e6), bytes / (ms * 1e6)});
+    for (const rt::Conv3x3Kernel kernel : c.k == 3 ? kernels3x3 : std::vector{rt::Conv3x3Kernel::automatic}) {
+      const rt::ActivationShape in{c.in_c, c.h, c.w, c.k == 3 ? 1u : 0u};
+      const rt::ActivationShape out{c.out_c, c.h, c.w, 1};
+      rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));
+      rt::Buffer out_buf(ctx, rt::activation_bytes(out, precision));
+      rt::Buffer w_buf(ctx, rt::round_up(c.out_c, 4) * c.in_c * c.k * c.k * rt::storage_bytes(precision));
+      rt::Buffer b_buf(ctx, rt::round_up(c.out_c, 4) * sizeof(float));
+      fill_random(in_buf, precision, 1);
+      fill_random(w_buf, precision, 2);
+      b_buf.fill_zero();
+      const rt::Conv2d conv(ctx, precision, c.k, kernel);
+      rt::Sequence seq(ctx);
+      seq.begin();
+      conv.record(seq, in_buf, in, w_buf, b_buf, out_buf, out, true);
+      seq.end();
+      const double ms = time_sequence(seq, repeat, timestamps);
+      const double bytes = (double(in.elements()) + double(out.elements())) * elem;
+      const char* suffix = c.k == 1 ? "" : kernel == rt::Conv3x3Kernel::subgroup ? " sg" : " direct";
+      results.push_back({fmt::format("conv{}x{} {}->{} @{}x{}{}", c.k, c.k, c.in_c, c.out_c, c.w, c.h, suffix), name, ms,
+                         rt::Conv2d::flops(in, c.out_c, c.k) / (ms * 1e6), bytes / (ms * 1e6)});
+    }
   }
 
   {  // 2x2 max-pool of SuperPoint's first block
@@ -88,8 +108,8 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     rt::Buffer a(ctx, std::size_t(s.m) * s.k * rt::storage_bytes(precision));
     rt::Buffer b(ctx, std::size_t(s.n) * s.k * rt::storage_bytes(precision));
     rt::Buffer c(ctx, std::size_t(s.m) * s.n * rt::storage_bytes(precision));
-    a.fill_zero();
-    b.fill_zero();
+    fill_random(a, precision, 3);
+    fill_random(b, precision, 4);
     const rt::Gemm gemm(ctx, precision);
     rt::Sequence seq(ctx);
     seq.begin();

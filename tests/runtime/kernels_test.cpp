@@ -66,7 +66,8 @@ struct ConvCase {
   bool relu;
 };
 
-void check_conv(Precision precision, const ConvCase& c, std::uint32_t seed) {
+void check_conv(Precision precision, const ConvCase& c, std::uint32_t seed,
+                Conv3x3Kernel kernel = Conv3x3Kernel::direct) {
   auto& ctx = gpu();
   const auto input = as_stored(random_values(std::size_t(c.in_c) * c.h * c.w, seed), precision);
   const auto weights = as_stored(random_values(std::size_t(c.out_c) * c.in_c * c.k * c.k, seed + 1, -0.5f, 0.5f), precision);
@@ -82,7 +83,7 @@ void check_conv(Precision precision, const ConvCase& c, std::uint32_t seed) {
   Buffer out_buf(ctx, activation_bytes(out, precision));
   out_buf.fill_zero();
 
-  const Conv2d conv(ctx, precision, std::uint32_t(c.k));
+  const Conv2d conv(ctx, precision, std::uint32_t(c.k), kernel);
   Sequence seq(ctx);
   seq.begin();
   conv.record(seq, in_buf, in, w_buf, b_buf, out_buf, out, c.relu);
@@ -104,6 +105,24 @@ TEST_P(Kernels, Conv3x3BiasReluMatchesReference) {
   check_conv(precision(), {3, 8, 13, 29, 3, 1, 1, true}, 11);   // odd sizes, partial x blocks and y groups
   check_conv(precision(), {16, 6, 9, 7, 3, 1, 0, false}, 12);   // out channels not a multiple of 4, no ReLU
   check_conv(precision(), {1, 64, 24, 32, 3, 1, 1, true}, 13);  // SuperPoint's first layer shape
+}
+
+// The subgroup-broadcast kernel (8 output channels x 4 pixels per invocation): widths that leave partial
+// 4-pixel blocks and workgroups, channel counts that leave a partial 8-channel group and a partial 4-block.
+TEST_P(Kernels, Conv3x3SubgroupKernelMatchesReference) {
+  if (!gpu().caps().subgroup_broadcast8()) GTEST_SKIP() << gpu().caps().name << " has no subgroup broadcast";
+  check_conv(precision(), {3, 8, 13, 29, 3, 1, 1, true}, 41, Conv3x3Kernel::subgroup);
+  check_conv(precision(), {16, 6, 9, 7, 3, 1, 0, false}, 42, Conv3x3Kernel::subgroup);
+  check_conv(precision(), {5, 13, 6, 70, 3, 1, 1, true}, 43, Conv3x3Kernel::subgroup);
+  check_conv(precision(), {64, 65, 11, 19, 3, 1, 1, false}, 44, Conv3x3Kernel::subgroup);
+  check_conv(precision(), {1, 64, 24, 32, 3, 1, 1, true}, 45, Conv3x3Kernel::subgroup);
+}
+
+TEST(Conv2d, AutomaticChoiceUsesTheSubgroupKernelWhereTheDeviceCanBroadcast) {
+  const Conv2d conv(gpu(), Precision::fp32, 3);
+  EXPECT_EQ(conv.uses_subgroup_kernel(), gpu().caps().subgroup_broadcast8());
+  EXPECT_FALSE(Conv2d(gpu(), Precision::fp32, 3, Conv3x3Kernel::direct).uses_subgroup_kernel());
+  EXPECT_FALSE(Conv2d(gpu(), Precision::fp32, 1).uses_subgroup_kernel());
 }
 
 TEST_P(Kernels, Conv1x1MatchesReference) {
