@@ -72,7 +72,7 @@ int run(const rt::Context& context, const app::BenchOptions& options) {
     features::SuperPointParams params;
     params.precision = precision;
     features::SuperPoint sp(context, pack, params);
-    for (const auto [w, h] : {std::pair{640, 480}, std::pair{752, 480}}) bench_size(sp, w, h, options.repeat);
+    for (const auto& [w, h] : {std::pair{640, 480}, std::pair{752, 480}}) bench_size(sp, w, h, options.repeat);
   }
   return 0;
 }

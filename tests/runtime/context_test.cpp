@@ -22,7 +22,9 @@ TEST(Context, SharedContextHasAPrecisionItSupports) {
   const auto& caps = test::gpu().caps();
   EXPECT_TRUE(caps.supports(Precision::fp32));
   EXPECT_TRUE(caps.supports(caps.preferred_precision()));
-  if (caps.type == "cpu") EXPECT_NE(caps.preferred_precision(), Precision::fp16) << "fp16 math is emulated on CPUs";
+  if (caps.type == "cpu") {
+    EXPECT_NE(caps.preferred_precision(), Precision::fp16) << "fp16 math is emulated on CPUs";
+  }
 }
 
 TEST(Context, SelectsDeviceByIndexAndByNameSubstring) {
