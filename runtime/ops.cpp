@@ -114,10 +114,46 @@ void MaxPool2x2::record(Sequence& seq, const Buffer& input, const ActivationShap
                label.empty() ? "maxpool2x2" : std::move(label));
 }
 
-Gemm::Gemm(const Context& context, Precision precision)
+Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
     : kernel_(context, {.op = "gemm", .precision = precision, .bindings = 4, .written_bindings = 1u << 3,
                         .push_constant_bytes = sizeof(GemmPush), .specialization = {kGroupX, kGroupY}}),
-      dummy_bias_(context, 16, BufferKind::device, "gemm.no_bias") {}
+      max_texel_elements_(context.caps().max_texel_buffer_elements),
+      element_bytes_(storage_bytes(precision)),
+      dummy_bias_(context, 16, BufferKind::device, "gemm.no_bias") {
+  const vk::Format texel = weight_texel_format(precision);  // four elements per texel
+  const bool available = context.caps().subgroup_broadcast8() && context.supports_uniform_texel_format(texel);
+  if (choice == GemmKernel::subgroup && !available)
+    throw std::invalid_argument("Gemm: the subgroup kernel needs subgroup broadcasts over >= 8 lanes and texel reads");
+  if (choice != GemmKernel::direct && available)
+    subgroup_kernel_.emplace(context, KernelSpec{.op = "gemm_subgroup", .precision = precision, .bindings = 4,
+                                                 .written_bindings = 1u << 3, .push_constant_bytes = sizeof(GemmPush),
+                                                 .specialization = {kGroupX * kGroupY},
+                                                 .texel_formats = {texel, texel}});
+}
+
+namespace {
+bool multiples_of_4(std::initializer_list<std::uint32_t> values) {
+  for (auto v : values)
+    if (v % 4 != 0) return false;
+  return true;
+}
+std::uint32_t leading_a(const GemmShape& s) { return s.lda ? s.lda : s.k; }
+std::uint32_t leading_b(const GemmShape& s) { return s.ldb ? s.ldb : (s.b_transposed ? s.k : s.n); }
+std::uint32_t leading_c(const GemmShape& s) { return s.ldc ? s.ldc : s.n; }
+}  // namespace
+
+bool Gemm::uses_subgroup_kernel(const GemmShape& s, const Binding& a, const Binding& b) const {
+  if (!subgroup_kernel_) return false;
+  // Texel views start at the binding offsets (256 bytes satisfies every device's texel offset alignment) and
+  // must stay within the device's texel count; A is read 4 along K, B 4 along K (B^T) or N.
+  const auto texels = [&](const Binding& x) {
+    const std::size_t bytes = x.range == VK_WHOLE_SIZE ? x.buffer->size() - x.offset : x.range;
+    return bytes / (4 * element_bytes_);
+  };
+  return a.offset % 256 == 0 && b.offset % 256 == 0 && texels(a) <= max_texel_elements_ &&
+         texels(b) <= max_texel_elements_ &&
+         multiples_of_4({s.k, leading_a(s), s.a_offset, s.a_batch_stride, leading_b(s), s.b_offset, s.b_batch_stride});
+}
 
 void Gemm::record(Sequence& seq, const Buffer& a, const Buffer& b, const Buffer* bias, const Buffer& c,
                   const GemmShape& s, std::string label) const {
@@ -128,23 +164,28 @@ void Gemm::record(Sequence& seq, const Buffer& a, const Buffer& b, const Buffer*
 void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Binding* bias, const Binding& c,
                   const GemmShape& s, std::string label) const {
   if (s.m == 0 || s.n == 0 || s.batch == 0) return;
-  const std::uint32_t lda = s.lda ? s.lda : s.k, ldb = s.ldb ? s.ldb : (s.b_transposed ? s.k : s.n);
+  const std::uint32_t lda = leading_a(s), ldb = leading_b(s), ldc = leading_c(s);
+  const Binding bindings[] = {a, b, bias ? *bias : Binding(dummy_bias_), c};
+  if (uses_subgroup_kernel(s, a, b)) {
+    const bool vec4_c = c.offset % 16 == 0 && multiples_of_4({ldc, s.c_offset, s.c_batch_stride});
+    const std::uint32_t flags = (s.b_transposed ? 1u : 0u) | (bias ? 2u : 0u) | (s.relu ? 4u : 0u) |
+                                (s.accumulate ? 8u : 0u) | (vec4_c ? 64u : 0u);
+    const GemmPush push{s.m, s.n, s.k, lda, ldb, ldc, s.a_offset, s.b_offset, s.c_offset,
+                        s.a_batch_stride, s.b_batch_stride, s.c_batch_stride, flags, s.alpha};
+    seq.dispatch(*subgroup_kernel_, bindings, &push, sizeof(push),
+                 {groups_for(s.n, 8), groups_for(groups_for(s.m, 4), kGroupX * kGroupY), s.batch},
+                 label.empty() ? fmt::format("gemm {}x{}x{}", s.m, s.n, s.k) : std::move(label));
+    return;
+  }
   // vec4 loads need every vec4 to start at a multiple of 4 elements (and the binding offsets at 16 bytes).
-  auto aligned = [](std::initializer_list<std::uint32_t> values) {
-    for (auto v : values)
-      if (v % 4 != 0) return false;
-    return true;
-  };
   const bool bindings_aligned = a.offset % 16 == 0 && b.offset % 16 == 0;
   const bool vec4_k = s.b_transposed && bindings_aligned &&
-                      aligned({s.k, lda, ldb, s.a_offset, s.b_offset, s.a_batch_stride, s.b_batch_stride});
-  const bool vec4_n = !s.b_transposed && bindings_aligned && aligned({s.n, ldb, s.b_offset, s.b_batch_stride});
+                      multiples_of_4({s.k, lda, ldb, s.a_offset, s.b_offset, s.a_batch_stride, s.b_batch_stride});
+  const bool vec4_n = !s.b_transposed && bindings_aligned && multiples_of_4({s.n, ldb, s.b_offset, s.b_batch_stride});
   const std::uint32_t flags = (s.b_transposed ? 1u : 0u) | (bias ? 2u : 0u) | (s.relu ? 4u : 0u) |
                               (s.accumulate ? 8u : 0u) | (vec4_k ? 16u : 0u) | (vec4_n ? 32u : 0u);
-  const GemmPush push{s.m, s.n, s.k, lda, ldb, s.ldc ? s.ldc : s.n,
-                      s.a_offset, s.b_offset, s.c_offset, s.a_batch_stride, s.b_batch_stride, s.c_batch_stride,
-                      flags, s.alpha};
-  const Binding bindings[] = {a, b, bias ? *bias : Binding(dummy_bias_), c};
+  const GemmPush push{s.m, s.n, s.k, lda, ldb, ldc, s.a_offset, s.b_offset, s.c_offset,
+                      s.a_batch_stride, s.b_batch_stride, s.c_batch_stride, flags, s.alpha};
   seq.dispatch(kernel_, bindings, &push, sizeof(push),
                {groups_for(groups_for(s.n, 4), kGroupX), groups_for(groups_for(s.m, kGemmRows), kGroupY), s.batch},
                label.empty() ? fmt::format("gemm {}x{}x{}", s.m, s.n, s.k) : std::move(label));

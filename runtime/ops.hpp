@@ -2,6 +2,7 @@
 // Host side of the generic neural-network kernels in shaders/: each op owns its pipeline and records one
 // dispatch into a Sequence. Activations are CHW planes with an optional zero border (shaders/include/tensor.glsl).
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "runtime/buffer.hpp"
@@ -74,9 +75,16 @@ struct GemmShape {
   std::uint32_t a_batch_stride = 0, b_batch_stride = 0, c_batch_stride = 0;
 };
 
+// `subgroup` (gemm_subgroup.comp: 4 x 8 blocks, op(B) shared through subgroup broadcasts, operands read
+// through texel buffers) serves the calls whose operands are vec4-aligned where the device can broadcast within
+// subgroups of 8 or more; `direct` (gemm.comp) serves every other call and device.
+enum class GemmKernel { automatic, direct, subgroup };
+
 class Gemm {
  public:
-  Gemm(const Context& context, Precision precision);
+  Gemm(const Context& context, Precision precision, GemmKernel choice = GemmKernel::automatic);
+  // Whether a call with this shape and these bindings runs the subgroup kernel.
+  bool uses_subgroup_kernel(const GemmShape& shape, const Binding& a, const Binding& b) const;
   // `bias` (N floats, fp32) may be null.
   void record(Sequence& seq, const Buffer& a, const Buffer& b, const Buffer* bias, const Buffer& c,
               const GemmShape& shape, std::string label = {}) const;
@@ -87,6 +95,9 @@ class Gemm {
 
  private:
   Kernel kernel_;
+  std::optional<Kernel> subgroup_kernel_;
+  std::size_t max_texel_elements_;
+  std::size_t element_bytes_;
   Buffer dummy_bias_;
 };
 

@@ -156,7 +156,8 @@ TEST_P(Kernels, MaxPool2x2MatchesReference) {
   EXPECT_EQ(test::max_abs_diff(got, expected), 0.0f) << "max-pool selects stored values exactly";
 }
 
-void check_gemm(Precision precision, GemmShape s, bool with_bias, std::uint32_t seed) {
+void check_gemm(Precision precision, GemmShape s, bool with_bias, std::uint32_t seed,
+                GemmKernel kernel = GemmKernel::direct) {
   auto& ctx = gpu();
   const auto a = as_stored(random_values(std::size_t(s.m) * s.k, seed), precision);
   const auto b = as_stored(random_values(std::size_t(s.k) * s.n, seed + 1), precision);
@@ -175,7 +176,10 @@ void check_gemm(Precision precision, GemmShape s, bool with_bias, std::uint32_t 
   Buffer bias_buf(ctx, bias.size() * sizeof(float));
   bias_buf.upload(std::span<const float>(bias));
   Buffer c_buf(ctx, expected.size() * storage_bytes(precision));
-  const Gemm gemm(ctx, precision);
+  const Gemm gemm(ctx, precision, kernel);
+  if (kernel == GemmKernel::subgroup) {
+    ASSERT_TRUE(gemm.uses_subgroup_kernel(s, Binding(a_buf), Binding(b_buf))) << "shape should be vec4-aligned";
+  }
   Sequence seq(ctx);
   seq.begin();
   gemm.record(seq, a_buf, b_buf, with_bias ? &bias_buf : nullptr, c_buf, s);
@@ -190,6 +194,27 @@ TEST_P(Kernels, GemmMatchesReference) {
   check_gemm(precision(), {.m = 37, .n = 70, .k = 129, .b_transposed = false}, true, 41);
   check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true, 42);
   check_gemm(precision(), {.m = 1, .n = 1, .k = 3, .b_transposed = true}, false, 43);
+}
+
+// The subgroup kernel (4 x 8 blocks of C, op(B) broadcast within subgroups): sizes that leave partial row groups
+// and partial 8-column blocks, both forms of B, N not a multiple of 4 (scalar stores) and a multiple (vec4).
+TEST_P(Kernels, GemmSubgroupKernelMatchesReference) {
+  if (!gpu().caps().subgroup_broadcast8()) GTEST_SKIP() << gpu().caps().name << " has no subgroup broadcast";
+  check_gemm(precision(), {.m = 37, .n = 68, .k = 128, .b_transposed = false}, true, 51, GemmKernel::subgroup);
+  check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true, 52,
+             GemmKernel::subgroup);
+  check_gemm(precision(), {.m = 300, .n = 40, .k = 256, .b_transposed = true}, false, 53, GemmKernel::subgroup);
+  check_gemm(precision(), {.m = 5, .n = 12, .k = 4, .b_transposed = false, .relu = true}, false, 54,
+             GemmKernel::subgroup);
+}
+
+TEST(Gemm, UnalignedShapesFallBackToTheDirectKernel) {
+  const Gemm gemm(gpu(), Precision::fp32);
+  Buffer a(gpu(), 4096), b(gpu(), 4096);
+  EXPECT_FALSE(gemm.uses_subgroup_kernel({.m = 8, .n = 8, .k = 3, .b_transposed = true}, Binding(a), Binding(b)));
+  EXPECT_FALSE(gemm.uses_subgroup_kernel({.m = 8, .n = 6, .k = 8}, Binding(a), Binding(b)));  // ldb = 6
+  EXPECT_EQ(gemm.uses_subgroup_kernel({.m = 8, .n = 8, .k = 8, .b_transposed = true}, Binding(a), Binding(b)),
+            gpu().caps().subgroup_broadcast8());
 }
 
 INSTANTIATE_TEST_SUITE_P(AllPrecisions, Kernels, ::testing::ValuesIn(kAllPrecisions),
