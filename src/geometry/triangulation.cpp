@@ -4,16 +4,16 @@
 
 #include <Eigen/SVD>
 
-#include "geometry/yaml_param.hpp"
+#include "io/config.hpp"
 
 namespace vkvo::geometry {
 
 TriangulationParams load_triangulation_params(const YAML::Node& section) {
   TriangulationParams p;
-  read_optional(section, "max_y_diff", p.max_y_diff);
-  read_optional(section, "min_depth", p.min_depth);
-  read_optional(section, "max_depth", p.max_depth);
-  read_optional(section, "min_line_plane_angle_deg", p.min_line_plane_angle_deg);
+  io::read_param(section, "max_y_diff", p.max_y_diff);
+  io::read_param(section, "min_depth", p.min_depth);
+  io::read_param(section, "max_depth", p.max_depth);
+  io::read_param(section, "min_line_plane_angle_deg", p.min_line_plane_angle_deg);
   return p;
 }
 

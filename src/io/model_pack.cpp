@@ -8,8 +8,9 @@
 #include <new>
 #include <stdexcept>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+
+#include "runtime/half.hpp"
 
 namespace vkvo::io {
 
@@ -128,9 +129,6 @@ std::size_t stored_element_count(std::string_view layout, std::span<const std::i
   }
   throw std::invalid_argument(fmt::format("unknown layout tag '{}'", layout));
 }
-
-std::uint16_t float_to_half(float value) { return std::bit_cast<std::uint16_t>(Eigen::half(value)); }
-float half_to_float(std::uint16_t bits) { return static_cast<float>(std::bit_cast<Eigen::half>(bits)); }
 
 std::uint64_t fnv1a64(std::span<const std::byte> bytes, std::uint64_t state) {
   constexpr std::uint64_t kPrime = 0x100000001b3ULL;
@@ -294,7 +292,7 @@ std::vector<float> ModelPack::floats(std::string_view name, DType dtype) const {
   if (dtype == DType::fp32) {
     std::memcpy(values.data(), bytes.data(), bytes.size());
   } else {
-    for (std::size_t i = 0; i < values.size(); ++i) values[i] = half_to_float(get_at<std::uint16_t>(bytes, 2 * i));
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = rt::half_to_float(get_at<std::uint16_t>(bytes, 2 * i));
   }
   return values;
 }
@@ -357,7 +355,7 @@ void ModelPackWriter::add_tensor(const std::string& name, std::vector<std::int64
       std::memcpy(entry.bytes.data(), values.data(), entry.bytes.size());
     } else {
       for (std::size_t i = 0; i < count; ++i) {
-        const std::uint16_t h = float_to_half(values[i]);
+        const std::uint16_t h = rt::float_to_half(values[i]);
         std::memcpy(entry.bytes.data() + 2 * i, &h, 2);
       }
     }

@@ -50,10 +50,6 @@ inline constexpr std::size_t dtype_bytes(DType dtype) { return dtype == DType::f
 // unknown tag or a shape the tag does not fit.
 std::size_t stored_element_count(std::string_view layout, std::span<const std::int64_t> shape);
 
-// IEEE binary16 conversions (round to nearest even), as the fp16 shader variants read them.
-std::uint16_t float_to_half(float value);
-float half_to_float(std::uint16_t bits);
-
 // 64-bit FNV-1a, continuing from `state` (start with kFnvOffsetBasis).
 inline constexpr std::uint64_t kFnvOffsetBasis = 0xcbf29ce484222325ULL;
 std::uint64_t fnv1a64(std::span<const std::byte> bytes, std::uint64_t state = kFnvOffsetBasis);

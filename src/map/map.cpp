@@ -4,15 +4,15 @@
 #include <stdexcept>
 #include <string>
 
-#include "geometry/yaml_param.hpp"
+#include "io/config.hpp"
 
 namespace vkvo::map {
 
 MapParams load_map_params(const YAML::Node& section) {
   MapParams p;
-  geometry::read_optional(section, "min_point_observations", p.min_point_observations);
-  geometry::read_optional(section, "min_line_observations", p.min_line_observations);
-  geometry::read_optional(section, "culling_grace_keyframes", p.culling_grace_keyframes);
+  io::read_param(section, "min_point_observations", p.min_point_observations);
+  io::read_param(section, "min_line_observations", p.min_line_observations);
+  io::read_param(section, "culling_grace_keyframes", p.culling_grace_keyframes);
   return p;
 }
 

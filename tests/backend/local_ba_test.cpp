@@ -71,10 +71,7 @@ OptimizationParams ba_params(int window) {
 }
 
 TEST(LocalBA, NoiselessRecoversExactlyAndFixedKeyframesStay) {
-  test::SceneSpec spec;
-  spec.num_keyframes = 6;
-  spec.seed = 41;
-  const test::Scene s = test::make_scene(spec);
+  const test::Scene s = test::make_scene({.num_keyframes = 6, .seed = 41});
   test::SceneMap sm = test::make_scene_map(s);
   std::mt19937 rng(42);
   const std::vector<map::Id> window_truth{5, 4, 3, 2};
@@ -100,11 +97,7 @@ TEST(LocalBA, NoiselessRecoversExactlyAndFixedKeyframesStay) {
 
 // Noise floor: the solution reached from perturbed values has the same cost as the one reached from the truth.
 TEST(LocalBA, NoisyConvergesToTheNoiseFloor) {
-  test::SceneSpec spec;
-  spec.num_keyframes = 6;
-  spec.pixel_noise = 0.5;
-  spec.seed = 43;
-  const test::Scene s = test::make_scene(spec);
+  const test::Scene s = test::make_scene({.num_keyframes = 6, .pixel_noise = 0.5, .seed = 43});
   const OptimizationParams params = ba_params(6);
   test::SceneMap from_truth = test::make_scene_map(s);
   const LocalBAResult ref = local_bundle_adjustment(from_truth.map, 5, s.stereo, params);
@@ -140,12 +133,8 @@ TEST(LocalBA, NoisyConvergesToTheNoiseFloor) {
 
 TEST(LocalBA, LinesOnlyAndPointsOnlyConverge) {
   for (const bool lines_only : {true, false}) {
-    test::SceneSpec spec;
-    spec.num_keyframes = 5;
-    spec.num_points = lines_only ? 0 : 200;
-    spec.num_lines = lines_only ? 120 : 0;
-    spec.seed = 45;
-    const test::Scene s = test::make_scene(spec);
+    const test::Scene s = test::make_scene(
+        {.num_keyframes = 5, .num_points = lines_only ? 0 : 200, .num_lines = lines_only ? 120 : 0, .seed = 45});
     test::SceneMap sm = test::make_scene_map(s);
     std::mt19937 rng(46);
     perturb_map(sm, {1, 2, 3, 4}, rng, 0.03, 0.01, 0.05, 0.01);
@@ -163,11 +152,7 @@ TEST(LocalBA, LinesOnlyAndPointsOnlyConverge) {
 }
 
 TEST(LocalBA, OutlierObservationsAreErased) {
-  test::SceneSpec spec;
-  spec.num_keyframes = 5;
-  spec.pixel_noise = 0.5;
-  spec.seed = 47;
-  const test::Scene s = test::make_scene(spec);
+  const test::Scene s = test::make_scene({.num_keyframes = 5, .pixel_noise = 0.5, .seed = 47});
   test::SceneMap sm = test::make_scene_map(s);
   // Corrupt 10 point observations and 3 line observations of keyframe 3 by 30 px.
   auto* kf = sm.map.keyframe(3);

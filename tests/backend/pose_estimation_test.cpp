@@ -55,12 +55,17 @@ double flag_accuracy(const std::vector<bool>& flags, const std::vector<bool>& is
   return flags.empty() ? 1.0 : double(agree) / double(flags.size());
 }
 
+// Whether `estimate` is within `max_translation` (m) and `max_rotation` (rad) of `truth`; says both errors.
+::testing::AssertionResult pose_near(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth,
+                                     double max_translation, double max_rotation) {
+  const double t = test::translation_error(estimate, truth), r = test::rotation_error(estimate, truth);
+  if (t < max_translation && r < max_rotation) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "pose off by " << t << " m (limit " << max_translation << ") and " << r
+                                       << " rad (limit " << max_rotation << ")";
+}
+
 TEST(PoseEstimation, RecoversPoseWithNoiseAnd30PercentOutliers) {
-  test::SceneSpec spec;
-  spec.num_keyframes = 4;
-  spec.pixel_noise = 0.5;
-  spec.seed = 31;
-  const test::Scene s = test::make_scene(spec);
+  const test::Scene s = test::make_scene({.num_keyframes = 4, .pixel_noise = 0.5, .seed = 31});
   std::mt19937 rng(32);
   for (int k = 1; k < 4; ++k) {
     const Matches m = make_matches(s, k, 0.3, rng);
@@ -70,8 +75,7 @@ TEST(PoseEstimation, RecoversPoseWithNoiseAnd30PercentOutliers) {
     const PoseEstimate est = estimate_pose(s.stereo, prior, m.points, m.lines, OptimizationParams{});
     EXPECT_TRUE(est.success);
     // 0.5 px noise on ~150 matches at 2.5-8 m: the pose is good to a few millimetres / tenths of a milliradian.
-    EXPECT_LT(test::translation_error(est.T_world_camera, s.T_world_camera[k]), 0.01) << "keyframe " << k;
-    EXPECT_LT(test::rotation_error(est.T_world_camera, s.T_world_camera[k]), 2e-3) << "keyframe " << k;
+    EXPECT_TRUE(pose_near(est.T_world_camera, s.T_world_camera[k], 0.01, 2e-3)) << "keyframe " << k;
     EXPECT_GT(flag_accuracy(est.point_inliers, m.point_is_outlier), 0.97);
     EXPECT_GT(flag_accuracy(est.line_inliers, m.line_is_outlier), 0.9);
     EXPECT_EQ(est.num_point_inliers, std::count(est.point_inliers.begin(), est.point_inliers.end(), true));
@@ -79,11 +83,7 @@ TEST(PoseEstimation, RecoversPoseWithNoiseAnd30PercentOutliers) {
 }
 
 TEST(PoseEstimation, PoorPriorStartsFromPnpRansac) {
-  test::SceneSpec spec;
-  spec.num_keyframes = 3;
-  spec.pixel_noise = 0.5;
-  spec.seed = 33;
-  const test::Scene s = test::make_scene(spec);
+  const test::Scene s = test::make_scene({.num_keyframes = 3, .pixel_noise = 0.5, .seed = 33});
   std::mt19937 rng(34);
   const Matches m = make_matches(s, 2, 0.3, rng);
   // Prior 0.6 m and 0.4 rad off: almost no match agrees with it.
@@ -91,44 +91,32 @@ TEST(PoseEstimation, PoorPriorStartsFromPnpRansac) {
   const PoseEstimate est = estimate_pose(s.stereo, prior, m.points, m.lines, OptimizationParams{});
   EXPECT_TRUE(est.used_pnp);
   EXPECT_TRUE(est.success);
-  EXPECT_LT(test::translation_error(est.T_world_camera, s.T_world_camera[2]), 0.01);
-  EXPECT_LT(test::rotation_error(est.T_world_camera, s.T_world_camera[2]), 2e-3);
+  EXPECT_TRUE(pose_near(est.T_world_camera, s.T_world_camera[2], 0.01, 2e-3));
 }
 
 TEST(PoseEstimation, LinesOnlyAndPointsOnlyConverge) {
-  test::SceneSpec spec;
-  spec.num_keyframes = 3;
-  spec.num_lines = 120;
-  spec.pixel_noise = 0.3;
-  spec.seed = 35;
-  const test::Scene s = test::make_scene(spec);
+  const test::Scene s = test::make_scene({.num_keyframes = 3, .num_lines = 120, .pixel_noise = 0.3, .seed = 35});
   std::mt19937 rng(36);
   const Matches m = make_matches(s, 2, 0.0, rng);
   const Eigen::Isometry3d prior = test::perturb(s.T_world_camera[2], rng, 0.05, 0.03);
   const PoseEstimate lines_only = estimate_pose(s.stereo, prior, {}, m.lines, OptimizationParams{});
   EXPECT_TRUE(lines_only.success);
   EXPECT_EQ(lines_only.num_point_inliers, 0);
-  EXPECT_LT(test::translation_error(lines_only.T_world_camera, s.T_world_camera[2]), 0.01);
-  EXPECT_LT(test::rotation_error(lines_only.T_world_camera, s.T_world_camera[2]), 2e-3);
+  EXPECT_TRUE(pose_near(lines_only.T_world_camera, s.T_world_camera[2], 0.01, 2e-3));
   const PoseEstimate points_only = estimate_pose(s.stereo, prior, m.points, {}, OptimizationParams{});
   EXPECT_TRUE(points_only.success);
-  EXPECT_LT(test::translation_error(points_only.T_world_camera, s.T_world_camera[2]), 0.01);
-  EXPECT_LT(test::rotation_error(points_only.T_world_camera, s.T_world_camera[2]), 2e-3);
+  EXPECT_TRUE(pose_near(points_only.T_world_camera, s.T_world_camera[2], 0.01, 2e-3));
 }
 
 TEST(PoseEstimation, NoiselessIsExactAndTooFewMatchesFail) {
-  test::SceneSpec spec;
-  spec.num_keyframes = 2;
-  spec.seed = 37;
-  const test::Scene s = test::make_scene(spec);
+  const test::Scene s = test::make_scene({.num_keyframes = 2, .seed = 37});
   std::mt19937 rng(38);
   const Matches m = make_matches(s, 1, 0.0, rng);
   const Eigen::Isometry3d prior = test::perturb(s.T_world_camera[1], rng, 0.05, 0.03);
   OptimizationParams params;
   params.pose_iterations = 50;
   const PoseEstimate est = estimate_pose(s.stereo, prior, m.points, m.lines, params);
-  EXPECT_LT(test::translation_error(est.T_world_camera, s.T_world_camera[1]), 1e-7);
-  EXPECT_LT(test::rotation_error(est.T_world_camera, s.T_world_camera[1]), 1e-8);
+  EXPECT_TRUE(pose_near(est.T_world_camera, s.T_world_camera[1], 1e-7, 1e-8));
   EXPECT_EQ(est.num_point_inliers, static_cast<int>(m.points.size()));
   // A prior that already explains the matches (~1 px off) needs no PnP start.
   const PoseEstimate near = estimate_pose(s.stereo, test::perturb(s.T_world_camera[1], rng, 0.005, 0.002), m.points,

@@ -1,5 +1,6 @@
 #pragma once
 // Helpers shared by all test executables.
+#include <exception>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -16,6 +17,22 @@ std::filesystem::path source_dir();
 
 // A fresh, empty temporary directory unique to the calling test.
 std::filesystem::path temp_dir(const std::string& tag);
+
+// Writes `text` to `file` byte for byte, creating the parent directories.
+void write_text(const std::filesystem::path& file, const std::string& text);
+// The whole content of `file` (empty when it cannot be read).
+std::string read_text(const std::filesystem::path& file);
+
+// The what() of the exception `fn` throws, or "<no exception>".
+template <typename Fn>
+std::string error_of(Fn&& fn) {
+  try {
+    fn();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "<no exception>";
+}
 
 }  // namespace vkvo::test
 

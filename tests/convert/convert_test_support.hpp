@@ -13,6 +13,7 @@
 #include <onnx/onnx_pb.h>
 
 #include "io/model_pack.hpp"
+#include "runtime/half.hpp"
 #include "tools/convert/convert.hpp"
 
 namespace vkvo::convert::test {
@@ -138,10 +139,10 @@ inline std::vector<std::byte> convert_bytes(const onnx::ModelProto& model, const
   return convert_graph(graph).serialize();
 }
 
-// fp16 copy of fp32 values, rounded as the pack writes them (checked independently in model_pack_test).
+// fp16 copy of fp32 values, rounded as the pack writes them (rt::float_to_half, checked in runtime/half_test).
 inline std::vector<float> as_half(const std::vector<float>& values) {
   std::vector<float> out;
-  for (const float v : values) out.push_back(io::half_to_float(io::float_to_half(v)));
+  for (const float v : values) out.push_back(rt::half_to_float(rt::float_to_half(v)));
   return out;
 }
 

@@ -1,6 +1,4 @@
 // io::Config and the camera: section overrides.
-#include <fstream>
-
 #include <gtest/gtest.h>
 
 #include "common/test_support.hpp"
@@ -9,17 +7,7 @@
 
 using namespace vkvo;
 
-namespace {
-template <typename Fn>
-std::string error_of(Fn&& fn) {
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "<no exception>";
-}
-}  // namespace
+using test::error_of;
 
 TEST(Config, SectionsAndParamsWithDefaults) {
   const auto config = io::Config::from_string(
@@ -50,11 +38,11 @@ TEST(Config, WrongTypeNamesKeyAndLine) {
 TEST(Config, FileErrorsNameTheFile) {
   const auto dir = test::temp_dir("config");
   EXPECT_NE(error_of([&] { io::Config::load(dir / "absent.yaml"); }).find("absent.yaml"), std::string::npos);
-  std::ofstream(dir / "bad.yaml") << "a: [1, 2\nb: 3\n";
+  test::write_text(dir / "bad.yaml", "a: [1, 2\nb: 3\n");
   const std::string message = error_of([&] { io::Config::load(dir / "bad.yaml"); });
   EXPECT_NE(message.find("bad.yaml"), std::string::npos) << message;
   EXPECT_NE(message.find("invalid YAML"), std::string::npos) << message;
-  std::ofstream(dir / "good.yaml") << "camera:\n  fx: 1\n";
+  test::write_text(dir / "good.yaml", "camera:\n  fx: 1\n");
   EXPECT_TRUE(io::Config::load(dir / "good.yaml").has_section("camera"));
 }
 

@@ -1,6 +1,4 @@
 // Dataset readers on small synthetic EuRoC and KITTI folders written by the tests themselves.
-#include <fstream>
-
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -12,12 +10,10 @@
 namespace fs = std::filesystem;
 using namespace vkvo;
 
-namespace {
+using test::error_of;
+using test::write_text;
 
-void write_text(const fs::path& file, const std::string& text) {
-  fs::create_directories(file.parent_path());
-  std::ofstream(file, std::ios::binary) << text;
-}
+namespace {
 
 // A 16x12 image whose pixels encode `seed`, so a test can tell which file was loaded.
 cv::Mat pattern_image(int seed, int width = 16, int height = 12) {
@@ -82,16 +78,6 @@ fs::path write_kitti(const fs::path& base, int frames, const char* calib, bool w
   if (calib) write_text(seq / "calib.txt", calib);
   if (with_times) write_text(seq / "times.txt", times);
   return seq;
-}
-
-template <typename Fn>
-std::string error_of(Fn&& fn) {
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "<no exception>";
 }
 
 }  // namespace

@@ -1,5 +1,4 @@
 // Trajectory files (TUM, EuRoC CSV, KITTI), ground-truth frame handling, PLY and JSON writers.
-#include <fstream>
 #include <random>
 #include <sstream>
 
@@ -14,19 +13,11 @@
 namespace fs = std::filesystem;
 using namespace vkvo;
 
+using test::error_of;
+using test::read_text;
+using test::write_text;
+
 namespace {
-
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void write_text(const fs::path& file, const std::string& text) {
-  fs::create_directories(file.parent_path());
-  std::ofstream(file) << text;
-}
 
 io::Trajectory random_trajectory(int n, unsigned seed) {
   std::mt19937 rng(seed);
@@ -39,16 +30,6 @@ io::Trajectory random_trajectory(int n, unsigned seed) {
     trajectory.push_back({1403636584.5 + 0.05 * k, pose});
   }
   return trajectory;
-}
-
-template <typename Fn>
-std::string error_of(Fn&& fn) {
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "<no exception>";
 }
 
 }  // namespace

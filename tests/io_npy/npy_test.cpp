@@ -9,11 +9,6 @@
 namespace vkvo::io {
 namespace {
 
-void write_text_file(const std::filesystem::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
 // Builds a format-1.0 file the way NumPy does, from a header dict and raw data bytes.
 std::string npy_bytes(const std::string& dict, const std::string& data) {
   std::string header = dict;
@@ -64,10 +59,10 @@ TEST(Npy, ReadsNumpyWrittenInt64AndZeroLengthArrays) {
   const int64_t a = -1, b = 123456;
   std::memcpy(data.data(), &a, 8);
   std::memcpy(data.data() + 8, &b, 8);
-  write_text_file(dir / "i8.npy", npy_bytes("{'descr': '<i8', 'fortran_order': False, 'shape': (2,), }", data));
+  test::write_text(dir / "i8.npy", npy_bytes("{'descr': '<i8', 'fortran_order': False, 'shape': (2,), }", data));
   EXPECT_EQ(read_npy(dir / "i8.npy").to_int32s(), (std::vector<int32_t>{-1, 123456}));
 
-  write_text_file(dir / "empty.npy", npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (0, 2), }", ""));
+  test::write_text(dir / "empty.npy", npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (0, 2), }", ""));
   const NpyArray empty = read_npy(dir / "empty.npy");
   EXPECT_EQ(empty.shape, (std::vector<size_t>{0, 2}));
   EXPECT_TRUE(empty.to_floats().empty());
@@ -86,15 +81,15 @@ TEST(Npy, ErrorsNameTheFileAndTheProblem) {
     }
   };
   expect_error(dir / "missing.npy", "cannot open");
-  write_text_file(dir / "bad_magic.npy", "PNG....");
+  test::write_text(dir / "bad_magic.npy", "PNG....");
   expect_error(dir / "bad_magic.npy", "bad magic");
-  write_text_file(dir / "fortran.npy",
+  test::write_text(dir / "fortran.npy",
                   npy_bytes("{'descr': '<f4', 'fortran_order': True, 'shape': (1,), }", std::string(4, '\0')));
   expect_error(dir / "fortran.npy", "Fortran");
-  write_text_file(dir / "big_endian.npy",
+  test::write_text(dir / "big_endian.npy",
                   npy_bytes("{'descr': '>f4', 'fortran_order': False, 'shape': (1,), }", std::string(4, '\0')));
   expect_error(dir / "big_endian.npy", "unsupported dtype");
-  write_text_file(dir / "short.npy",
+  test::write_text(dir / "short.npy",
                   npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (4,), }", std::string(8, '\0')));
   expect_error(dir / "short.npy", "truncated");
 }

@@ -1,7 +1,6 @@
 // perturb_sequence: geometry, calibration, ground truth and timestamps stay byte-identical; the pixels of the
 // frames an event touches change as the event prescribes, all other images stay byte-identical.
 #include <fstream>
-#include <iterator>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -15,11 +14,6 @@ namespace vkvo::synth {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string bytes_of(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 std::vector<fs::path> tree(const fs::path& root) {
   std::vector<fs::path> files;
@@ -44,7 +38,7 @@ TEST(Perturb, AslSequenceKeepsGeometryAndChangesTheEventFrames) {
   ASSERT_EQ(lists.left.size(), 4u);
   for (const auto& f : files) {
     if (f.extension() != ".png") {
-      EXPECT_EQ(bytes_of(src / f), bytes_of(dst / f)) << f;  // CSVs, sensor.yaml, ground truth
+      EXPECT_EQ(test::read_text(src / f), test::read_text(dst / f)) << f;  // CSVs, sensor.yaml, ground truth
     }
   }
   const fs::path l = "mav0/cam0", r = "mav0/cam1";
@@ -54,7 +48,7 @@ TEST(Perturb, AslSequenceKeepsGeometryAndChangesTheEventFrames) {
       EXPECT_NEAR(mean_of(dst / left), 0.02 * mean_of(src / left), 1.0);
       EXPECT_NEAR(mean_of(dst / right), 0.01 * mean_of(src / right), 1.0);
     } else {
-      EXPECT_EQ(bytes_of(src / left), bytes_of(dst / left)) << "untouched frame " << k;
+      EXPECT_EQ(test::read_text(src / left), test::read_text(dst / left)) << "untouched frame " << k;
       EXPECT_NEAR(mean_of(dst / right) / mean_of(src / right), 0.5, 0.01);
     }
   }
@@ -78,8 +72,10 @@ TEST(Perturb, KittiSequenceWithSixteenBitImages) {
     }
   perturb_sequence(src, dst, parse_events({"dim:0-2"}));
   ASSERT_EQ(tree(src), tree(dst));
-  for (const char* f : {"calib.txt", "times.txt", "poses.txt"}) EXPECT_EQ(bytes_of(src / f), bytes_of(dst / f));
-  EXPECT_EQ(bytes_of(src / "image_0/000000.png"), bytes_of(dst / "image_0/000000.png"));  // gain 1 at the start
+  for (const char* f : {"calib.txt", "times.txt", "poses.txt"})
+    EXPECT_EQ(test::read_text(src / f), test::read_text(dst / f));
+  // Gain 1 at the start: the first image is unchanged.
+  EXPECT_EQ(test::read_text(src / "image_0/000000.png"), test::read_text(dst / "image_0/000000.png"));
   const cv::Mat out = cv::imread((dst / "image_1/000002.png").string(), cv::IMREAD_UNCHANGED);
   EXPECT_EQ(out.type(), CV_16UC1);
   EXPECT_NEAR(mean_of(dst / "image_1/000002.png") / mean_of(src / "image_1/000002.png"), 0.1, 1e-3);

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "io/model_pack.hpp"
+#include "runtime/half.hpp"
 
 namespace vkvo::convert {
 
@@ -146,7 +147,7 @@ std::optional<FloatTensor> OnnxGraph::constant_floats(std::string_view value) co
         for (const auto v : t->int32_data()) bits.push_back(static_cast<std::uint16_t>(v));
       }
       for (const auto b : bits)
-        out.values.push_back(t->data_type() == onnx::TensorProto::FLOAT16 ? io::half_to_float(b) : bfloat16_to_float(b));
+        out.values.push_back(t->data_type() == onnx::TensorProto::FLOAT16 ? rt::half_to_float(b) : bfloat16_to_float(b));
       break;
     }
     default:

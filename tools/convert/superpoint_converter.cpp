@@ -6,37 +6,25 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "features/superpoint/architecture.hpp"
 #include "runtime/tensor_layout.hpp"
 
 namespace vkvo::convert {
 
 namespace {
 
-struct ExpectedConv {
-  const char* name;
-  std::int64_t in, out, kernel;
-};
-
-// SuperPoint (DeTone et al. 2018, the Magic Leap release): encoder, then the detector and descriptor heads.
-constexpr std::array<ExpectedConv, 8> kEncoder{{{"conv1a", 1, 64, 3},
-                                                {"conv1b", 64, 64, 3},
-                                                {"conv2a", 64, 64, 3},
-                                                {"conv2b", 64, 64, 3},
-                                                {"conv3a", 64, 128, 3},
-                                                {"conv3b", 128, 128, 3},
-                                                {"conv4a", 128, 128, 3},
-                                                {"conv4b", 128, 128, 3}}};
-constexpr std::array<ExpectedConv, 2> kDetector{{{"convPa", 128, 256, 3}, {"convPb", 256, 65, 1}}};
-constexpr std::array<ExpectedConv, 2> kDescriptor{{{"convDa", 128, 256, 3}, {"convDb", 256, 256, 1}}};
-// 2x2 max-pools follow these encoder convolutions (0-based): conv1b, conv2b, conv3b.
-constexpr std::array<std::size_t, 3> kPoolAfter{1, 3, 5};
+using features::kSuperPointArchitecture;
+using features::kSuperPointEncoderLayers;
+using features::SuperPointConvSpec;
+using features::SuperPointLayer;
 
 struct NamedConv {
   std::string name;
   ConvWeights conv;
 };
 
-void check_shape(const OnnxGraph& graph, const ConvWeights& conv, const ExpectedConv& expected) {
+void check_shape(const OnnxGraph& graph, const ConvWeights& conv, SuperPointLayer layer) {
+  const SuperPointConvSpec& expected = kSuperPointArchitecture[layer];
   const std::vector<std::int64_t> want{expected.out, expected.in, expected.kernel, expected.kernel};
   if (conv.dims != want)
     graph.fail(*conv.node, fmt::format("as SuperPoint's {} its weight should be {}, found {}", expected.name,
@@ -64,9 +52,10 @@ std::vector<NamedConv> map_encoder(const OnnxGraph& graph, std::string& trunk) {
     const std::string& op = node->op_type();
     if (op == "Conv") {
       if (relu_pending) graph.fail(*node, "convolution follows a convolution without ReLU");
-      if (convs.size() == kEncoder.size()) break;  // a head starts here (the other one is missing)
-      convs.push_back({kEncoder[convs.size()].name, read_conv(graph, *node)});
-      check_shape(graph, convs.back().conv, kEncoder[convs.size() - 1]);
+      if (convs.size() == kSuperPointEncoderLayers) break;  // a head starts here (the other one is missing)
+      const auto layer = static_cast<SuperPointLayer>(convs.size());
+      convs.push_back({kSuperPointArchitecture[layer].name, read_conv(graph, *node)});
+      check_shape(graph, convs.back().conv, layer);
       relu_pending = true;
     } else if (op == "Relu") {
       relu_pending = false;
@@ -81,13 +70,14 @@ std::vector<NamedConv> map_encoder(const OnnxGraph& graph, std::string& trunk) {
     last = node;
     value = node->output(0);
   }
-  if (convs.size() != kEncoder.size() || relu_pending) {
+  if (convs.size() != kSuperPointEncoderLayers || relu_pending) {
     const std::string where = last ? OnnxGraph::describe(*last) : "the input '" + inputs.front() + "'";
     graph.fail(fmt::format("SuperPoint encoder: found {} Conv+ReLU stages before the heads, expected {} (the "
                            "Conv/Relu/MaxPool chain ends after {})",
-                           convs.size() - (relu_pending ? 1 : 0), kEncoder.size(), where));
+                           convs.size() - (relu_pending ? 1 : 0), kSuperPointEncoderLayers, where));
   }
-  if (pools_after != std::vector<std::size_t>(kPoolAfter.begin(), kPoolAfter.end()))
+  if (pools_after != std::vector<std::size_t>(features::kSuperPointPoolAfter.begin(),
+                                               features::kSuperPointPoolAfter.end()))
     graph.fail(*last, fmt::format("SuperPoint encoder: max-pools follow convolutions [{}], expected after conv1b, "
                                   "conv2b and conv3b", fmt::join(pools_after, ", ")));
   trunk = value;
@@ -137,14 +127,14 @@ std::pair<Head, std::array<ConvWeights, 2>> map_head(const OnnxGraph& graph, con
     if (user->op_type() == "Softmax") {
       if (graph.int_attribute(*user, "axis") != 1) graph.fail(*user, "detector softmax must run over axis 1");
       check_dustbin_slice(graph, *user);
-      check_shape(graph, a, kDetector[0]);
-      check_shape(graph, b, kDetector[1]);
+      check_shape(graph, a, features::convPa);
+      check_shape(graph, b, features::convPb);
       return {Head::detector, {std::move(a), std::move(b)}};
     }
     if (user->op_type() == "ReduceL2" || user->op_type() == "LpNormalization") {
       check_l2_norm(graph, *user);
-      check_shape(graph, a, kDescriptor[0]);
-      check_shape(graph, b, kDescriptor[1]);
+      check_shape(graph, a, features::convDa);
+      check_shape(graph, b, features::convDb);
       return {Head::descriptor, {std::move(a), std::move(b)}};
     }
   }
@@ -181,8 +171,8 @@ io::ModelPackWriter convert_superpoint(const OnnxGraph& graph) {
   io::ModelPackWriter pack(io::NetworkKind::superpoint);
   for (const auto& [name, conv] : encoder) add_conv(pack, name, conv);
   for (std::size_t k = 0; k < 2; ++k) {
-    add_conv(pack, kDetector[k].name, (*detector)[k]);
-    add_conv(pack, kDescriptor[k].name, (*descriptor)[k]);
+    add_conv(pack, kSuperPointArchitecture[features::convPa + k].name, (*detector)[k]);
+    add_conv(pack, kSuperPointArchitecture[features::convDa + k].name, (*descriptor)[k]);
   }
   pack.set_number("descriptor_dim", static_cast<double>((*descriptor)[1].out_channels()));
   pack.set_number("detector_channels", static_cast<double>((*detector)[1].out_channels()));

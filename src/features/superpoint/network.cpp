@@ -14,24 +14,6 @@
 namespace vkvo::features {
 namespace {
 
-struct ExpectedConv {
-  const char* name;
-  std::uint32_t in, out, kernel;
-};
-// The architecture (method notes, "SuperPoint"): encoder widths 64-64-128-128, two heads on the 128-channel trunk.
-constexpr std::array<ExpectedConv, kSuperPointLayers> kArchitecture{{{"conv1a", 1, 64, 3},
-                                                                     {"conv1b", 64, 64, 3},
-                                                                     {"conv2a", 64, 64, 3},
-                                                                     {"conv2b", 64, 64, 3},
-                                                                     {"conv3a", 64, 128, 3},
-                                                                     {"conv3b", 128, 128, 3},
-                                                                     {"conv4a", 128, 128, 3},
-                                                                     {"conv4b", 128, 128, 3},
-                                                                     {"convPa", 128, 256, 3},
-                                                                     {"convPb", 256, 65, 1},
-                                                                     {"convDa", 128, 256, 3},
-                                                                     {"convDb", 256, 0, 1}}};  // 0: descriptor_dim
-
 // Push-constant blocks, mirroring the shaders.
 struct InputPush {
   std::uint32_t width, height;
@@ -69,13 +51,15 @@ rt::Kernel colmax_kernel(const rt::Context& ctx, rt::Precision p, std::uint32_t 
   return rt::Kernel(ctx, spec("superpoint_nms_colmax", p, 7, kWritten[stage], sizeof(ColPush), {stage}));
 }
 
-SuperPointConv find_conv(const io::ModelPack& pack, const ExpectedConv& expected, rt::Precision precision) {
+SuperPointConv find_conv(const io::ModelPack& pack, SuperPointLayer layer, rt::Precision precision) {
+  const SuperPointConvSpec& expected = kSuperPointArchitecture[layer];
   const io::DType dtype = precision == rt::Precision::fp32 ? io::DType::fp32 : io::DType::fp16;
   const auto& w = pack.tensor(std::string(expected.name) + ".weight", dtype);
   const auto& b = pack.tensor(std::string(expected.name) + ".bias", io::DType::fp32);
   SuperPointConv conv{expected.name, expected.in, expected.out, expected.kernel, w.offset, w.byte_size, b.offset,
                       b.byte_size};
-  if (conv.out_channels == 0 && !w.shape.empty()) conv.out_channels = static_cast<std::uint32_t>(w.shape[0]);
+  // The descriptor dimension is the pack's (convDb's output width).
+  if (layer == convDb && !w.shape.empty()) conv.out_channels = static_cast<std::uint32_t>(w.shape[0]);
   const std::vector<std::int64_t> want{conv.out_channels, conv.in_channels, conv.kernel, conv.kernel};
   if (w.shape != want || w.layout != "o4" || b.layout != "o4")
     throw std::runtime_error(fmt::format("model pack '{}': tensor {}.weight should be {} in layout o4, found {} in {}",
@@ -100,7 +84,8 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
       sample(ctx, spec("superpoint_sample", p, 7, (1u << 4) | (1u << 5) | (1u << 6), sizeof(SamplePush))),
       nms_colmax{colmax_kernel(ctx, p, 0), colmax_kernel(ctx, p, 1), colmax_kernel(ctx, p, 2),
                  colmax_kernel(ctx, p, 3)} {
-  for (std::size_t i = 0; i < kSuperPointLayers; ++i) convs[i] = find_conv(pack, kArchitecture[i], p);
+  for (std::size_t i = 0; i < kSuperPointLayers; ++i)
+    convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
   block.upload(pack.data_block().data(), pack.data_block().size());
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "features/superpoint/architecture.hpp"
 #include "io/model_pack.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/kernel.hpp"
@@ -22,10 +23,6 @@ struct SuperPointConv {
   std::uint32_t in_channels = 0, out_channels = 0, kernel = 0;
   std::size_t weight_offset = 0, weight_bytes = 0, bias_offset = 0, bias_bytes = 0;
 };
-
-// Layer order of the pack (tools/convert/superpoint_converter.hpp).
-enum SuperPointLayer { conv1a, conv1b, conv2a, conv2b, conv3a, conv3b, conv4a, conv4b, convPa, convPb, convDa, convDb };
-inline constexpr std::size_t kSuperPointLayers = 12;
 
 struct SuperPointNetwork {
   SuperPointNetwork(const rt::Context& context, const io::ModelPack& pack, rt::Precision precision);

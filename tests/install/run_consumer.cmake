@@ -1,0 +1,38 @@
+# ctest driver for tests/install (label `install`): installs the build tree BUILD_DIR into a fresh prefix under
+# WORK_DIR, then configures, builds and runs the project in consumer/ against that prefix alone. Fails (non-zero
+# exit of `cmake -P`) on the first step that does.
+#   cmake -DBUILD_DIR=... -DWORK_DIR=... -DGENERATOR=... -DCXX_COMPILER=... [-DCONFIG=...] -P run_consumer.cmake
+foreach(var BUILD_DIR WORK_DIR GENERATOR CXX_COMPILER)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "run_consumer.cmake: ${var} is not set")
+  endif()
+endforeach()
+if(NOT CONFIG)
+  set(CONFIG Release)
+endif()
+set(prefix ${WORK_DIR}/prefix)
+set(consumer_build ${WORK_DIR}/consumer-build)
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+
+function(step name)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "install test: ${name} failed (${rc}):\n${out}")
+  endif()
+  message(STATUS "install test: ${name}: ok")
+  set(step_output "${out}" PARENT_SCOPE)
+endfunction()
+
+step("cmake --install" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix} --config ${CONFIG})
+# Only the fresh prefix may provide vkvo: no package registry, no build tree.
+step("configure the consumer" ${CMAKE_COMMAND} -S ${CMAKE_CURRENT_LIST_DIR}/consumer -B ${consumer_build}
+     -G ${GENERATOR} -DCMAKE_BUILD_TYPE=${CONFIG} -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
+     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+step("build the consumer" ${CMAKE_COMMAND} --build ${consumer_build} --config ${CONFIG})
+find_program(consumer vkvo_consumer PATHS ${consumer_build} ${consumer_build}/${CONFIG} NO_DEFAULT_PATH REQUIRED)
+step("run the consumer" ${consumer})
+message(STATUS "${step_output}")
+if(NOT step_output MATCHES "vkvo consumer: ok")
+  message(FATAL_ERROR "install test: the consumer ran but did not report success:\n${step_output}")
+endif()
