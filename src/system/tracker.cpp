@@ -29,13 +29,21 @@ bool usable(const map::MapLine* l) { return l && !l->bad; }
 
 Tracker::Tracker(const VoConfig& config, const geometry::StereoCamera& stereo, PointFrontend& stereo_frontend,
                  const Eigen::Isometry3d& T_world_first)
-    : config_(config),
+    : config_(scale_to_image(config, stereo.camera.width, stereo.camera.height)),
       stereo_(stereo),
       frontend_(&stereo_frontend),
       right_line_detector_(config.lines.detector),
       T_world_first_(T_world_first),
       T_world_previous_(T_world_first),
-      T_world_last_(T_world_first) {}
+      T_world_last_(T_world_first) {
+  if (config_.tracking.init_min_keypoints != config.tracking.init_min_keypoints ||
+      config_.tracking.init_min_stereo != config.tracking.init_min_stereo)
+    spdlog::info("{}x{} images: a map segment starts with {} keypoints / {} stereo points (configured {} / {} for "
+                 "{:.0f} pixels)",
+                 stereo.camera.width, stereo.camera.height, config_.tracking.init_min_keypoints,
+                 config_.tracking.init_min_stereo, config.tracking.init_min_keypoints, config.tracking.init_min_stereo,
+                 config.tracking.reference_image_area);
+}
 
 MatchReference Tracker::reference() const {
   std::lock_guard lock(reference_mutex_);
