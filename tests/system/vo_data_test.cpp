@@ -30,5 +30,18 @@ TEST(VoData, EurocMh01SubsetWithTheOpencvFrontend) {
   EXPECT_LT(run.evaluation.ate.translation_m.rmse, 0.015);
 }
 
+TEST(VoData, Kitti01SubsetWithTheOpencvFrontend) {
+  VKVO_REQUIRE_DATA(dataset, "datasets/kitti_seq01_f000-050/KITTI_sequence_2");
+  const auto config = load_vo_config(test::source_dir() / "config" / "kitti.yaml");
+  const auto dir = test::temp_dir("vo_data");
+  const auto run = test::run_vo_with_opencv_frontend(dataset, config, {}, dir / "out");
+  constexpr std::size_t kFrames = 51;
+  EXPECT_EQ(run.result.frames, kFrames);
+  EXPECT_EQ(run.result.tracking_losses, 0);
+  EXPECT_EQ(run.evaluation.associated_poses, kFrames);
+  const double path = run.evaluation.drift.path_length_m;
+  EXPECT_LT(run.evaluation.ate.translation_m.rmse, 0.02 * path);
+}
+
 }  // namespace
 }  // namespace vkvo::system
