@@ -39,7 +39,11 @@ TEST(VoData, Kitti01SubsetWithTheOpencvFrontend) {
   EXPECT_EQ(run.result.frames, kFrames);
   EXPECT_EQ(run.result.tracking_losses, 0);
   EXPECT_EQ(run.evaluation.associated_poses, kFrames);
+  // Measured: 0.74 m RMSE (SE3) over the 51.8 m path = 1.4% (ATE rot 0.68 deg), 45 keyframes: highway at ~1 m
+  // per frame keeps the tracked count under keyframe.max_tracked. The bound is the target for the real
+  // system (2% of the path); the frontend meets it with 28% margin.
   const double path = run.evaluation.drift.path_length_m;
+  EXPECT_GT(path, 50.0);
   EXPECT_LT(run.evaluation.ate.translation_m.rmse, 0.02 * path);
 }
 
