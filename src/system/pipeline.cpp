@@ -176,6 +176,8 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
     if (r.keyframe) keyframes.write_ns(in->timestamp_ns, T_world_cam0);
     centres.push_back(T_world_cam0.translation());
     ++result.frames;
+    if (r.tracked) ++result.frames_tracked;
+    result.last_frame_tracked = r.tracked;
     result.timing.add(Module::Frame, since_last_output.ms());
     since_last_output = Stopwatch();
     progress.update(result.frames + result.frames_skipped, tracker.keyframes(), r);
@@ -200,6 +202,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   summary["config"] = config.origin.string();
   summary["frames"] = result.frames;
   summary["frames_skipped"] = result.frames_skipped;
+  summary["frames_tracked"] = result.frames_tracked;
   summary["keyframes"] = result.keyframes;
   summary["tracking_losses"] = result.tracking_losses;
   summary["map_segments"] = result.segments;

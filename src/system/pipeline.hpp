@@ -28,6 +28,8 @@ struct RunOptions {
 struct RunResult {
   std::size_t frames = 0;            // frames processed
   std::size_t frames_skipped = 0;    // unreadable images
+  std::size_t frames_tracked = 0;    // frames whose pose came from the optimisation (the rest: predicted)
+  bool last_frame_tracked = false;
   int keyframes = 0;
   int tracking_losses = 0;
   int segments = 0;

@@ -29,13 +29,21 @@ bool usable(const map::MapLine* l) { return l && !l->bad; }
 
 Tracker::Tracker(const VoConfig& config, const geometry::StereoCamera& stereo, PointFrontend& stereo_frontend,
                  const Eigen::Isometry3d& T_world_first)
-    : config_(config),
+    : config_(scale_to_image(config, stereo.camera.width, stereo.camera.height)),
       stereo_(stereo),
       frontend_(&stereo_frontend),
       right_line_detector_(config.lines.detector),
       T_world_first_(T_world_first),
       T_world_previous_(T_world_first),
-      T_world_last_(T_world_first) {}
+      T_world_last_(T_world_first) {
+  if (config_.tracking.init_min_keypoints != config.tracking.init_min_keypoints ||
+      config_.tracking.init_min_stereo != config.tracking.init_min_stereo)
+    spdlog::info("{}x{} images: a map segment starts with {} keypoints / {} stereo points (configured {} / {} for "
+                 "{:.0f} pixels)",
+                 stereo.camera.width, stereo.camera.height, config_.tracking.init_min_keypoints,
+                 config_.tracking.init_min_stereo, config.tracking.init_min_keypoints, config.tracking.init_min_stereo,
+                 config.tracking.reference_image_area);
+}
 
 MatchReference Tracker::reference() const {
   std::lock_guard lock(reference_mutex_);
@@ -97,16 +105,37 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
     return result;
   }
 
-  // The reference the feature stage matched against: the keyframe, or the previous frame.
+  // The feature stage runs up to queue_capacity frames ahead, so it may have matched against a keyframe that is
+  // no longer the last one (or one of an earlier map segment, or the previous frame while a keyframe was being
+  // made). The landmarks of such a keyframe are stale: the newer keyframes hold the tracked points and map
+  // culling removes the older keyframe's unconfirmed points. Match against the last keyframe here instead.
+  const features::PointMatches* matches = &input.matches;
+  map::Id reference_keyframe = input.reference_keyframe;
+  bool matched_previous_frame = input.matched_previous_frame;
+  features::PointMatches rematched;
+  if (const MatchReference latest = reference();
+      latest.features && latest.keyframe != map::kInvalidId && latest.keyframe != input.reference_keyframe) {
+    const Stopwatch watch;
+    rematched = frontend_->match(input.points, *latest.features);
+    timing.add(Module::PM, watch.ms());
+    if (static_cast<int>(rematched.count()) >= config_.tracking.min_num_match ||
+        rematched.count() > input.matches.count()) {
+      matches = &rematched;
+      reference_keyframe = latest.keyframe;
+      matched_previous_frame = false;
+      result.rematched = true;
+    }
+  }
+
+  // The reference the matches refer to: the keyframe, or the previous frame.
   const map::Frame* reference = nullptr;
   features::PointLineAssociation keyframe_association;
   const features::PointLineAssociation* reference_association = nullptr;
-  if (const map::KeyFrame* kf = input.reference_keyframe != map::kInvalidId ? map_.keyframe(input.reference_keyframe)
-                                                                             : nullptr) {
+  if (const map::KeyFrame* kf = reference_keyframe != map::kInvalidId ? map_.keyframe(reference_keyframe) : nullptr) {
     reference = kf;
     keyframe_association = association_of(*kf);
     reference_association = &keyframe_association;
-  } else if (input.matched_previous_frame && last_frame_) {
+  } else if (matched_previous_frame && last_frame_) {
     reference = &last_frame_->frame;
     reference_association = &last_frame_->association;
   }
@@ -116,7 +145,7 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
   std::vector<backend::LineMatch> line_matches;
   std::vector<std::pair<int, map::Id>> line_of_match;
   if (reference) {
-    const auto& m = input.matches.matches0;
+    const auto& m = matches->matches0;
     for (std::size_t i = 0; i < m.size(); ++i) {
       if (m[i] < 0) continue;
       ++result.matches;
@@ -181,6 +210,12 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
     result.keyframe = add_keyframe(input, current, false, timing);
   }
   frames_since_keyframe_ = result.keyframe ? 0 : frames_since_keyframe_ + 1;
+  spdlog::debug("frame {}: {} keypoints, {} matches to {} {} ({} with map points), {} point / {} line inliers{}{}{}",
+                input.index, input.points.size(), result.matches,
+                matched_previous_frame ? "previous frame" : result.rematched ? "(re-matched) keyframe" : "keyframe",
+                matched_previous_frame ? input.index - 1 : reference_keyframe, point_matches.size(),
+                estimate.num_point_inliers, estimate.num_line_inliers, estimate.used_pnp ? ", PnP" : "",
+                result.keyframe ? ", keyframe" : "", result.tracked ? "" : ", LOST");
 
   result.T_world_camera = current.frame.T_world_camera;
   T_world_previous_ = T_world_last_;
@@ -198,8 +233,10 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
       triangulate_stereo_points(stereo_, input.points, right, stereo_matches, config_.triangulation);
   if (new_segment && (static_cast<int>(input.points.size()) < config_.tracking.init_min_keypoints ||
                       stereo_points.count < config_.tracking.init_min_stereo)) {
-    spdlog::debug("frame {}: cannot start a map segment ({} keypoints, {} stereo points)", input.index,
-                  input.points.size(), stereo_points.count);
+    spdlog::debug("frame {}: cannot start a map segment ({} keypoints, {} stereo matches, {} pass the stereo gates; "
+                  "need {} / {})",
+                  input.index, input.points.size(), stereo_matches.count(), stereo_points.count,
+                  config_.tracking.init_min_keypoints, config_.tracking.init_min_stereo);
     timing.add(Module::BA, watch.ms());
     return false;
   }
@@ -239,8 +276,8 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
   if (!new_segment) {
     const auto ba = backend::local_bundle_adjustment(map_, kf_id, stereo_, config_.optimization);
     const auto [culled_points, culled_lines] = map_.cull(config_.map);
-    spdlog::debug("keyframe {}: +{} points +{} lines; BA window {} ({} fixed), outliers {}/{}, culled {}/{}", kf_id,
-                  new_points, new_lines, ba.window.size(), ba.fixed.size(), ba.point_outliers, ba.line_outliers,
+    spdlog::debug("keyframe {} (frame {}): {} stereo matches, {} triangulated; +{} points +{} lines; BA window {} ({} fixed), outliers {}/{}, culled {}/{}", kf_id,
+                  input.index, stereo_matches.count(), stereo_points.count, new_points, new_lines, ba.window.size(), ba.fixed.size(), ba.point_outliers, ba.line_outliers,
                   culled_points, culled_lines);
   }
   tracked.frame = *map_.keyframe(kf_id);  // BA may have moved it; associations now include the new landmarks

@@ -27,6 +27,7 @@ struct TrackResult {
   bool new_segment = false;    // (re-)initialisation: a new map segment starts here
   int tracked_points = 0, tracked_lines = 0;
   int matches = 0;             // point matches to the reference
+  bool rematched = false;      // the feature stage's reference was stale: matched again to the last keyframe
 };
 
 // The keyframe the feature stage matches new frames against.

@@ -1,5 +1,7 @@
 #include "system/vo_config.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace vkvo::system {
@@ -9,6 +11,7 @@ TrackingParams load_tracking_params(const YAML::Node& section) {
   io::read_param(section, "min_num_match", p.min_num_match);
   io::read_param(section, "init_min_keypoints", p.init_min_keypoints);
   io::read_param(section, "init_min_stereo", p.init_min_stereo);
+  io::read_param(section, "reference_image_area", p.reference_image_area);
   io::read_param(section, "use_lines", p.use_lines);
   io::read_param(section, "queue_capacity", p.queue_capacity);
   if (p.queue_capacity < 1) throw std::runtime_error("tracking.queue_capacity must be at least 1");
@@ -41,5 +44,17 @@ VoConfig load_vo_config(const io::Config& config) {
 }
 
 VoConfig load_vo_config(const std::filesystem::path& file) { return load_vo_config(io::Config::load(file)); }
+
+VoConfig scale_to_image(const VoConfig& config, int width, int height) {
+  VoConfig scaled = config;
+  const double reference = config.tracking.reference_image_area;
+  if (reference <= 0 || width <= 0 || height <= 0) return scaled;
+  const double factor = std::min(1.0, double(width) * double(height) / reference);
+  const int floor = 2 * config.keyframe.min_tracked;
+  auto scale = [&](int count) { return std::max(std::min(count, floor), static_cast<int>(std::lround(count * factor))); };
+  scaled.tracking.init_min_keypoints = scale(config.tracking.init_min_keypoints);
+  scaled.tracking.init_min_stereo = scale(config.tracking.init_min_stereo);
+  return scaled;
+}
 
 }  // namespace vkvo::system

@@ -19,10 +19,16 @@ struct TrackingParams {
   int min_num_match = 30;       // fewer matches to the last keyframe: match against the last frame instead
   int init_min_keypoints = 150; // a frame starts the map with at least this many keypoints ...
   int init_min_stereo = 100;    // ... and this many triangulated stereo matches
+  // The two counts above are for images of this many pixels (EuRoC, 752 x 480);
+  // smaller images scale them down by the area ratio (SuperPoint finds corners per area: 97 on a 320 x 240
+  // rendered room), never up. 0 disables the scaling.
+  double reference_image_area = 752.0 * 480.0;
   bool use_lines = true;        // false: the paper's "w/o line" ablation
   int queue_capacity = 2;       // frames in flight between the feature and the optimisation stage
 };
 TrackingParams load_tracking_params(const YAML::Node& section);
+
+
 
 struct VoConfig {
   std::filesystem::path origin;  // the file it came from
@@ -42,6 +48,11 @@ struct VoConfig {
 };
 
 VoConfig load_vo_config(const io::Config& config);
+
+// The configuration for images of width x height: tracking.init_min_keypoints and tracking.init_min_stereo
+// times min(1, area / tracking.reference_image_area), rounded, but not below 2 x keyframe.min_tracked (a new
+// map must start well above the tracking-failure threshold).
+VoConfig scale_to_image(const VoConfig& config, int width, int height);
 VoConfig load_vo_config(const std::filesystem::path& file);
 
 }  // namespace vkvo::system

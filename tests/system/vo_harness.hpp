@@ -1,0 +1,23 @@
+#pragma once
+// Runs the full threaded VO (system::run_vo) on a dataset folder with the OpenCV test frontend and evaluates the
+// trajectory against the dataset's ground truth. Shared by the synthetic end-to-end tests and the data tests.
+// Set VKVO_TEST_VERBOSE=1 to get the tracker's per-frame debug log (keypoints, matches, inliers, keyframes).
+#include <filesystem>
+
+#include "eval/evaluate.hpp"
+#include "system/opencv_frontend.hpp"
+#include "system/pipeline.hpp"
+#include "system/vo_config.hpp"
+
+namespace vkvo::test {
+
+struct VoRun {
+  system::RunResult result;
+  eval::EvaluationResult evaluation;
+  io::Trajectory trajectory;
+};
+
+VoRun run_vo_with_opencv_frontend(const std::filesystem::path& dataset_dir, const system::VoConfig& config,
+                                  const OpencvFrontendParams& frontend, const std::filesystem::path& out_dir);
+
+}  // namespace vkvo::test

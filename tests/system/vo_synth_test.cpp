@@ -1,0 +1,64 @@
+// End to end on rendered images (no shared data needed): `vkvo synth`'s small preset (320x240 textured room) ->
+// the full threaded VO (system::run_vo) with the OpenCV test frontend -> ATE against the rendered ground truth.
+// This is the test that the tracker, the stereo initialisation, keyframes, BA and recovery work on real pixels;
+// the oracle tests (tracker_test, pipeline_test) only see exact projections.
+#include <gtest/gtest.h>
+
+#include "common/test_support.hpp"
+#include "system/vo_harness.hpp"
+#include "tools/synth/config.hpp"
+#include "tools/synth/sequence_writer.hpp"
+
+namespace vkvo::system {
+namespace {
+
+namespace fs = std::filesystem;
+
+VoConfig small_preset_config() {
+  return load_vo_config(test::source_dir() / "config" / "euroc.yaml");
+}
+
+TEST(VoSynth, TracksTheSmallPresetWithoutLoss) {
+  auto synth = synth::synth_preset("small");
+  synth.num_frames = 40;
+  const auto dir = test::temp_dir("vo_synth");
+  synth::write_synthetic_sequence(synth, dir / "seq");
+
+  const auto run = test::run_vo_with_opencv_frontend(dir / "seq", small_preset_config(), {}, dir / "out");
+  EXPECT_EQ(run.result.frames, static_cast<std::size_t>(synth.num_frames));
+  ASSERT_EQ(run.trajectory.size(), static_cast<std::size_t>(synth.num_frames));
+  EXPECT_EQ(run.result.tracking_losses, 0);
+  EXPECT_EQ(run.result.segments, 1);
+  EXPECT_GE(run.result.keyframes, 2);
+  EXPECT_EQ(run.evaluation.associated_poses, static_cast<std::size_t>(synth.num_frames));
+  // Measured: 0.104 m RMSE (SE3-aligned) over the 0.9 m path (deterministic: fixed seed, single-threaded
+  // matching). The small preset is a weak stereo rig (fx * baseline = 22 px m: 9 px disparity at 2.5 m, so a
+  // 0.5 px keypoint error is 5% depth) looking mostly at flat walls, where PnP against one keyframe confuses
+  // sideways translation with yaw (ATE rot ~3 deg at frame 12 with 157 inliers even with the true map depths);
+  // 0.15 m leaves 45% margin and still fails on any real tracking fault (losses gave 0.33 m).
+  EXPECT_LT(run.evaluation.ate.translation_m.rmse, 0.15);
+}
+
+TEST(VoSynth, RecoversAfterTheLightsGoOut) {
+  auto synth = synth::synth_preset("small");
+  synth.num_frames = 40;
+  synth.events = {synth::make_event(synth::EventKind::lights_off, 15, 19)};  // 5 frames at 2% light
+  const auto dir = test::temp_dir("vo_synth");
+  synth::write_synthetic_sequence(synth, dir / "seq");
+
+  const auto run = test::run_vo_with_opencv_frontend(dir / "seq", small_preset_config(), {}, dir / "out");
+  EXPECT_EQ(run.result.frames, static_cast<std::size_t>(synth.num_frames));
+  ASSERT_EQ(run.trajectory.size(), static_cast<std::size_t>(synth.num_frames));  // a pose for every frame
+  EXPECT_EQ(run.evaluation.associated_poses, static_cast<std::size_t>(synth.num_frames));
+  // Measured: the 5 dark frames have no keypoints (each counts as a tracking loss, pose predicted); frame 20
+  // relocalises against keyframe 0 by PnP and tracking goes on in the same map segment. Recovery may also come
+  // as a new segment; either way every frame after the event must be tracked.
+  EXPECT_LE(run.result.tracking_losses, 5);
+  EXPECT_GE(run.result.frames_tracked, static_cast<std::size_t>(synth.num_frames - 5));
+  EXPECT_TRUE(run.result.last_frame_tracked);
+  // Measured 0.070 m RMSE; same bound and reasons as TracksTheSmallPresetWithoutLoss.
+  EXPECT_LT(run.evaluation.ate.translation_m.rmse, 0.15);
+}
+
+}  // namespace
+}  // namespace vkvo::system
