@@ -11,12 +11,19 @@ namespace vkvo::test {
 
 VoRun run_vo_with_opencv_frontend(const std::filesystem::path& dataset_dir, const system::VoConfig& config,
                                   const OpencvFrontendParams& frontend, const std::filesystem::path& out_dir) {
+  OpencvFrontend feature_frontend(frontend), stereo_frontend(frontend);
+  return run_vo_on(dataset_dir, config, feature_frontend, stereo_frontend, out_dir);
+}
+
+VoRun run_vo_on(const std::filesystem::path& dataset_dir, const system::VoConfig& config,
+                system::PointFrontend& feature_frontend, system::PointFrontend& stereo_frontend,
+                const std::filesystem::path& out_dir, const io::FrameRange& range) {
   const char* verbose = std::getenv("VKVO_TEST_VERBOSE");
   if (verbose && *verbose && *verbose != '0') spdlog::set_level(spdlog::level::debug);
   io::DatasetOptions options;
   options.camera_overrides = config.camera;
+  options.range = range;
   const auto dataset = io::open_dataset(dataset_dir, options);
-  OpencvFrontend feature_frontend(frontend), stereo_frontend(frontend);
   system::RunOptions run_options;
   run_options.output_dir = out_dir;
   run_options.progress = false;

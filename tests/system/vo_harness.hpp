@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "eval/evaluate.hpp"
+#include "io/dataset.hpp"
 #include "system/opencv_frontend.hpp"
 #include "system/pipeline.hpp"
 #include "system/vo_config.hpp"
@@ -16,6 +17,11 @@ struct VoRun {
   eval::EvaluationResult evaluation;
   io::Trajectory trajectory;
 };
+
+// Any pair of point frontends (the feature stage's and the keyframe stage's) on the frames in `range`.
+VoRun run_vo_on(const std::filesystem::path& dataset_dir, const system::VoConfig& config,
+                system::PointFrontend& feature_frontend, system::PointFrontend& stereo_frontend,
+                const std::filesystem::path& out_dir, const io::FrameRange& range = {});
 
 VoRun run_vo_with_opencv_frontend(const std::filesystem::path& dataset_dir, const system::VoConfig& config,
                                   const OpencvFrontendParams& frontend, const std::filesystem::path& out_dir);
