@@ -85,6 +85,7 @@ DeviceCaps query_caps(const vk::raii::PhysicalDevice& device, std::uint32_t inde
   caps.max_shared_memory_bytes = props.limits.maxComputeSharedMemorySize;
   caps.max_storage_buffer_range = props.limits.maxStorageBufferRange;
   caps.max_texel_buffer_elements = props.limits.maxTexelBufferElements;
+  caps.min_texel_buffer_offset_alignment = props.limits.minTexelBufferOffsetAlignment;
   caps.timestamp_period_ns = props.limits.timestampPeriod;
 
   const bool api12 = props.apiVersion >= VK_API_VERSION_1_2;

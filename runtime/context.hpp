@@ -50,6 +50,7 @@ struct DeviceCaps {
   std::uint32_t max_shared_memory_bytes = 0;
   std::uint64_t max_storage_buffer_range = 0;
   std::uint32_t max_texel_buffer_elements = 0;
+  std::uint64_t min_texel_buffer_offset_alignment = 1;
   std::vector<MemoryHeap> heaps;
 
   bool supports(Precision p) const;

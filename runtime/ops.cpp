@@ -29,6 +29,9 @@ struct GemmPush {
 };
 // Output rows per invocation (ROWS in shaders/gemm.comp).
 constexpr std::uint32_t kGemmRows = 3;
+// GemmPush::flags, as in shaders/gemm.comp and gemm_subgroup.comp (vec4 K/N: gemm.comp only; vec4 C: subgroup only).
+constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGemmAccumulate = 8, kGemmVec4K = 16,
+                        kGemmVec4N = 32, kGemmVec4C = 64;
 
 // Output channels and pixels per invocation of conv3x3_subgroup.comp.
 constexpr std::uint32_t kSubgroupConvChannels = 8, kSubgroupConvPixels = 4, kSubgroupConvRows = 2;
@@ -166,28 +169,26 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   if (s.m == 0 || s.n == 0 || s.batch == 0) return;
   const std::uint32_t lda = leading_a(s), ldb = leading_b(s), ldc = leading_c(s);
   const Binding bindings[] = {a, b, bias ? *bias : Binding(dummy_bias_), c};
-  if (uses_subgroup_kernel(s, a, b)) {
-    const bool vec4_c = c.offset % 16 == 0 && multiples_of_4({ldc, s.c_offset, s.c_batch_stride});
-    const std::uint32_t flags = (s.b_transposed ? 1u : 0u) | (bias ? 2u : 0u) | (s.relu ? 4u : 0u) |
-                                (s.accumulate ? 8u : 0u) | (vec4_c ? 64u : 0u);
-    const GemmPush push{s.m, s.n, s.k, lda, ldb, ldc, s.a_offset, s.b_offset, s.c_offset,
-                        s.a_batch_stride, s.b_batch_stride, s.c_batch_stride, flags, s.alpha};
-    seq.dispatch(*subgroup_kernel_, bindings, &push, sizeof(push),
-                 {groups_for(s.n, 8), groups_for(groups_for(s.m, 4), kGroupX * kGroupY), s.batch},
-                 label.empty() ? fmt::format("gemm {}x{}x{}", s.m, s.n, s.k) : std::move(label));
-    return;
+  std::uint32_t flags = (s.b_transposed ? kGemmTransposedB : 0u) | (bias ? kGemmBias : 0u) |
+                        (s.relu ? kGemmRelu : 0u) | (s.accumulate ? kGemmAccumulate : 0u);
+  const bool subgroup = uses_subgroup_kernel(s, a, b);
+  Groups groups;
+  if (subgroup) {
+    if (c.offset % 16 == 0 && multiples_of_4({ldc, s.c_offset, s.c_batch_stride})) flags |= kGemmVec4C;
+    groups = {groups_for(s.n, 8), groups_for(groups_for(s.m, 4), kGroupX * kGroupY), s.batch};
+  } else {
+    // vec4 loads need every vec4 to start at a multiple of 4 elements (and the binding offsets at 16 bytes).
+    const bool bindings_aligned = a.offset % 16 == 0 && b.offset % 16 == 0;
+    if (s.b_transposed && bindings_aligned &&
+        multiples_of_4({s.k, lda, ldb, s.a_offset, s.b_offset, s.a_batch_stride, s.b_batch_stride}))
+      flags |= kGemmVec4K;
+    if (!s.b_transposed && bindings_aligned && multiples_of_4({s.n, ldb, s.b_offset, s.b_batch_stride}))
+      flags |= kGemmVec4N;
+    groups = {groups_for(groups_for(s.n, 4), kGroupX), groups_for(groups_for(s.m, kGemmRows), kGroupY), s.batch};
   }
-  // vec4 loads need every vec4 to start at a multiple of 4 elements (and the binding offsets at 16 bytes).
-  const bool bindings_aligned = a.offset % 16 == 0 && b.offset % 16 == 0;
-  const bool vec4_k = s.b_transposed && bindings_aligned &&
-                      multiples_of_4({s.k, lda, ldb, s.a_offset, s.b_offset, s.a_batch_stride, s.b_batch_stride});
-  const bool vec4_n = !s.b_transposed && bindings_aligned && multiples_of_4({s.n, ldb, s.b_offset, s.b_batch_stride});
-  const std::uint32_t flags = (s.b_transposed ? 1u : 0u) | (bias ? 2u : 0u) | (s.relu ? 4u : 0u) |
-                              (s.accumulate ? 8u : 0u) | (vec4_k ? 16u : 0u) | (vec4_n ? 32u : 0u);
   const GemmPush push{s.m, s.n, s.k, lda, ldb, ldc, s.a_offset, s.b_offset, s.c_offset,
                       s.a_batch_stride, s.b_batch_stride, s.c_batch_stride, flags, s.alpha};
-  seq.dispatch(kernel_, bindings, &push, sizeof(push),
-               {groups_for(groups_for(s.n, 4), kGroupX), groups_for(groups_for(s.m, kGemmRows), kGroupY), s.batch},
+  seq.dispatch(subgroup ? *subgroup_kernel_ : kernel_, bindings, &push, sizeof(push), groups,
                label.empty() ? fmt::format("gemm {}x{}x{}", s.m, s.n, s.k) : std::move(label));
 }
 

@@ -126,6 +126,10 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
     if (const vk::Format format = spec.texel_format(i); format != vk::Format::eUndefined) {
       if (kernel.writes(i))
         throw VulkanError(fmt::format("kernel '{}': binding {} is a read-only texel buffer", spec.op, i));
+      if (b.offset % context_->caps().min_texel_buffer_offset_alignment != 0)
+        throw VulkanError(fmt::format("kernel '{}': binding {} of '{}' starts at byte {}, not a multiple of the "
+                                      "device's texel-buffer offset alignment {}", spec.op, i, b.buffer->name(),
+                                      b.offset, context_->caps().min_texel_buffer_offset_alignment));
       buffer_views_.push_back(context_->device().createBufferView(
           {.buffer = b.buffer->handle(), .format = format, .offset = b.offset, .range = b.range}));
       views[i] = *buffer_views_.back();

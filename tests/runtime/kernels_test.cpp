@@ -125,6 +125,23 @@ TEST(Conv2d, AutomaticChoiceUsesTheSubgroupKernelWhereTheDeviceCanBroadcast) {
   EXPECT_FALSE(Conv2d(gpu(), Precision::fp32, 1).uses_subgroup_kernel());
 }
 
+TEST(Conv2d, MisalignedTexelBindingIsAClearError) {
+  if (!gpu().caps().subgroup_broadcast8()) GTEST_SKIP() << gpu().caps().name << " has no subgroup broadcast";
+  ASSERT_GT(gpu().caps().min_texel_buffer_offset_alignment, 1u);
+  const Conv2d conv(gpu(), Precision::fp32, 3, Conv3x3Kernel::subgroup);
+  const ActivationShape shape{4, 5, 6, 1};
+  Buffer input(gpu(), activation_bytes(shape, Precision::fp32)), weights(gpu(), 4096), bias(gpu(), 64);
+  Buffer output(gpu(), activation_bytes(shape, Precision::fp32));
+  Sequence seq(gpu());
+  seq.begin();
+  try {
+    conv.record(seq, input, shape, Binding(weights, 4), Binding(bias), output, shape, false);
+    FAIL() << "a texel view at byte 4 was accepted";
+  } catch (const VulkanError& e) {
+    EXPECT_NE(std::string(e.what()).find("texel-buffer offset alignment"), std::string::npos) << e.what();
+  }
+}
+
 TEST_P(Kernels, Conv1x1MatchesReference) {
   check_conv(precision(), {37, 65, 5, 11, 1, 0, 0, false}, 21);  // like the 65-channel detector head
   check_conv(precision(), {8, 12, 7, 9, 1, 1, 1, true}, 22);     // padded input and output
