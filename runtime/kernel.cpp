@@ -19,6 +19,8 @@ Kernel::Kernel(const Context& context, KernelSpec spec) : spec_(std::move(spec))
   std::vector<vk::DescriptorSetLayoutBinding> bindings;
   for (std::uint32_t b = 0; b < spec_.bindings; ++b) {
     const vk::Format format = spec_.texel_format(b);
+    if (format != vk::Format::eUndefined && writes(b))
+      throw VulkanError(fmt::format("kernel '{}': binding {} is a read-only texel buffer but marked written", spec_.op, b));
     if (format != vk::Format::eUndefined && !context.supports_uniform_texel_format(format))
       throw VulkanError(fmt::format("device '{}' cannot read {} through uniform texel buffers ({}, binding {})",
                                     context.caps().name, vk::to_string(format), spec_.op, b));

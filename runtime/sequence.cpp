@@ -124,8 +124,6 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
     infos.push_back({.buffer = b.buffer->handle(), .offset = b.offset, .range = b.range});
     track(b.buffer->handle(), Access::read);
     if (const vk::Format format = spec.texel_format(i); format != vk::Format::eUndefined) {
-      if (kernel.writes(i))
-        throw VulkanError(fmt::format("kernel '{}': binding {} is a read-only texel buffer", spec.op, i));
       if (b.offset % context_->caps().min_texel_buffer_offset_alignment != 0)
         throw VulkanError(fmt::format("kernel '{}': binding {} of '{}' starts at byte {}, not a multiple of the "
                                       "device's texel-buffer offset alignment {}", spec.op, i, b.buffer->name(),
