@@ -34,7 +34,7 @@ constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGem
                         kGemmVec4N = 32, kGemmVec4C = 64;
 
 // Output channels and pixels per invocation of conv3x3_subgroup.comp.
-constexpr std::uint32_t kSubgroupConvChannels = 8, kSubgroupConvPixels = 4, kSubgroupConvRows = 2;
+constexpr std::uint32_t kSubgroupConvChannels = 8, kSubgroupConvPixels = 4, kSubgroupConvRows = 3;
 
 // conv3x3_subgroup reads activations (one value per texel) and weights (4 output channels per texel) through
 // uniform texel buffers in the storage precision.
