@@ -27,8 +27,8 @@ struct GemmPush {
   std::uint32_t m, n, k, lda, ldb, ldc, a_offset, b_offset, c_offset, a_batch, b_batch, c_batch, flags;
   float alpha;
 };
-// Output rows per invocation (ROWS in shaders/gemm.comp).
-constexpr std::uint32_t kGemmRows = 3;
+// Output rows per invocation (ROWS in shaders/gemm.comp, kRows in gemm_subgroup.comp).
+constexpr std::uint32_t kGemmRows = 3, kSubgroupGemmRows = 4;
 // GemmPush::flags, as in shaders/gemm.comp and gemm_subgroup.comp (vec4 K/N: gemm.comp only; vec4 C: subgroup only).
 constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGemmAccumulate = 8, kGemmVec4K = 16,
                         kGemmVec4N = 32, kGemmVec4C = 64;
@@ -175,7 +175,7 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   Groups groups;
   if (subgroup) {
     if (c.offset % 16 == 0 && multiples_of_4({ldc, s.c_offset, s.c_batch_stride})) flags |= kGemmVec4C;
-    groups = {groups_for(s.n, 8), groups_for(groups_for(s.m, 4), kGroupX * kGroupY), s.batch};
+    groups = {groups_for(s.n, 8), groups_for(groups_for(s.m, kSubgroupGemmRows), kGroupX * kGroupY), s.batch};
   } else {
     // vec4 loads need every vec4 to start at a multiple of 4 elements (and the binding offsets at 16 bytes).
     const bool bindings_aligned = a.offset % 16 == 0 && b.offset % 16 == 0;

@@ -11,6 +11,7 @@
 // the stores (subgroupBroadcast from an inactive lane is undefined).
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_EXT_control_flow_attributes : require
 #include "precision.glsl"
 
 layout(local_size_x_id = 0, local_size_y = 1, local_size_z = 1) in;
@@ -32,7 +33,7 @@ layout(push_constant) uniform Params {
   float alpha;
 } p;
 
-const uint kRows = 4;
+const uint kRows = 4;  // 8 measured slower on lavapipe (the 64 accumulators spill)
 
 void main() {
   // Grid: (column blocks of 8, row groups, batch); rows vary within a workgroup, columns are uniform.
@@ -44,7 +45,7 @@ void main() {
 
   // Texel index of A's row i at k = 0 (rows past the end are clamped and not stored).
   uint a_row[kRows];
-  for (uint i = 0; i < kRows; ++i)
+  [[unroll]] for (uint i = 0; i < kRows; ++i)
     a_row[i] = (p.a_offset + batch * p.a_batch + min(m0 + i, p.m - 1u) * p.lda) / 4u;
   // The texel this lane fetches per step of 4 along K, and how far it moves per step:
   //  B^T: row n0 + lane of the stored B (= column n0 + lane of op(B)), k .. k + 3;
@@ -60,32 +61,37 @@ void main() {
   }
 
   vec4 acc[kRows][2];  // [row][columns n0..n0+3 | n0+4..n0+7]
-  for (uint i = 0; i < kRows; ++i) acc[i][0] = acc[i][1] = vec4(0);
+  [[unroll]] for (uint i = 0; i < kRows; ++i) acc[i][0] = acc[i][1] = vec4(0);
 
+  // One loop per form of op(B), the branch outside: a CPU driver runs both sides of a branch with lane masks
+  // (lavapipe does), so a branch inside the loop would cost every step both bodies.
   const uint steps = p.k / 4u;
-  for (uint s = 0; s < steps; ++s) {
-    const vec4 held = texelFetch(b_texels, int(b_texel + s * b_step));
-    avec4 a[kRows];
-    for (uint i = 0; i < kRows; ++i) a[i] = avec4(texelFetch(a_texels, int(a_row[i] + s)));
-    if (transposed) {
+  if (transposed) {
+    for (uint s = 0; s < steps; ++s) {
+      const vec4 held = texelFetch(b_texels, int(b_texel + s));
       // Column j's 4 values along K come from lane j (broadcast lanes must be compile-time constants).
       const avec4 b0 = avec4(subgroupBroadcast(held, 0)), b1 = avec4(subgroupBroadcast(held, 1));
       const avec4 b2 = avec4(subgroupBroadcast(held, 2)), b3 = avec4(subgroupBroadcast(held, 3));
       const avec4 b4 = avec4(subgroupBroadcast(held, 4)), b5 = avec4(subgroupBroadcast(held, 5));
       const avec4 b6 = avec4(subgroupBroadcast(held, 6)), b7 = avec4(subgroupBroadcast(held, 7));
-      for (uint i = 0; i < kRows; ++i) {
-        acc[i][0] += vec4(dot(a[i], b0), dot(a[i], b1), dot(a[i], b2), dot(a[i], b3));
-        acc[i][1] += vec4(dot(a[i], b4), dot(a[i], b5), dot(a[i], b6), dot(a[i], b7));
+      [[unroll]] for (uint i = 0; i < kRows; ++i) {
+        const avec4 a = avec4(texelFetch(a_texels, int(a_row[i] + s)));
+        acc[i][0] += vec4(dot(a, b0), dot(a, b1), dot(a, b2), dot(a, b3));
+        acc[i][1] += vec4(dot(a, b4), dot(a, b5), dot(a, b6), dot(a, b7));
       }
-    } else {
+    }
+  } else {
+    for (uint s = 0; s < steps; ++s) {
+      const vec4 held = texelFetch(b_texels, int(b_texel + s * b_step));
       // Row k + r of the 4 x 8 slice: columns 0-3 from lane 2r, 4-7 from lane 2r + 1.
       const avec4 r0l = avec4(subgroupBroadcast(held, 0)), r0h = avec4(subgroupBroadcast(held, 1));
       const avec4 r1l = avec4(subgroupBroadcast(held, 2)), r1h = avec4(subgroupBroadcast(held, 3));
       const avec4 r2l = avec4(subgroupBroadcast(held, 4)), r2h = avec4(subgroupBroadcast(held, 5));
       const avec4 r3l = avec4(subgroupBroadcast(held, 6)), r3h = avec4(subgroupBroadcast(held, 7));
-      for (uint i = 0; i < kRows; ++i) {
-        acc[i][0] += vec4(a[i].x * r0l + a[i].y * r1l + a[i].z * r2l + a[i].w * r3l);
-        acc[i][1] += vec4(a[i].x * r0h + a[i].y * r1h + a[i].z * r2h + a[i].w * r3h);
+      [[unroll]] for (uint i = 0; i < kRows; ++i) {
+        const avec4 a = avec4(texelFetch(a_texels, int(a_row[i] + s)));
+        acc[i][0] += vec4(a.x * r0l + a.y * r1l + a.z * r2l + a.w * r3l);
+        acc[i][1] += vec4(a.x * r0h + a.y * r1h + a.z * r2h + a.w * r3h);
       }
     }
   }
