@@ -33,8 +33,9 @@ constexpr std::uint32_t kGemmRows = 3, kSubgroupGemmRows = 4;
 constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGemmAccumulate = 8, kGemmVec4K = 16,
                         kGemmVec4N = 32, kGemmVec4C = 64;
 
-// Output channels and pixels per invocation of conv3x3_subgroup.comp.
+// Output channels and pixels per invocation of conv3x3_subgroup.comp (and pixels of conv1x1_subgroup.comp).
 constexpr std::uint32_t kSubgroupConvChannels = 8, kSubgroupConvPixels = 4, kSubgroupConvRows = 3;
+constexpr std::uint32_t kSubgroupConv1x1Pixels = 8;
 
 // conv3x3_subgroup reads activations (one value per texel) and weights (4 output channels per texel) through
 // uniform texel buffers in the storage precision.
@@ -45,11 +46,15 @@ vk::Format weight_texel_format(Precision precision) {
   return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR16G16B16A16Sfloat;
 }
 
+bool subgroup_kernels_available(const Context& context, Precision precision) {
+  return context.caps().subgroup_broadcast8() &&
+         context.supports_uniform_texel_format(activation_texel_format(precision)) &&
+         context.supports_uniform_texel_format(weight_texel_format(precision));
+}
+
 bool use_subgroup_conv(const Context& context, Precision precision, std::uint32_t kernel_size, Conv3x3Kernel choice) {
   if (kernel_size != 3 || choice == Conv3x3Kernel::direct) return false;
-  const bool available = context.caps().subgroup_broadcast8() &&
-                         context.supports_uniform_texel_format(activation_texel_format(precision)) &&
-                         context.supports_uniform_texel_format(weight_texel_format(precision));
+  const bool available = subgroup_kernels_available(context, precision);
   if (choice == Conv3x3Kernel::subgroup && !available)
     throw std::invalid_argument(
         "Conv2d: the subgroup 3x3 kernel needs subgroup broadcasts over >= 8 lanes and texel-buffer reads");
@@ -77,7 +82,21 @@ Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel
     : kernel_size_(kernel_size),
       subgroup_(use_subgroup_conv(context, precision, kernel_size, choice)),
       max_texel_elements_(context.caps().max_texel_buffer_elements),
-      kernel_(context, conv_spec(precision, kernel_size, subgroup_)) {}
+      kernel_(context, conv_spec(precision, kernel_size, subgroup_)) {
+  if (kernel_size == 1 && choice != Conv3x3Kernel::direct && subgroup_kernels_available(context, precision))
+    subgroup_1x1_.emplace(context, KernelSpec{.op = "conv1x1_subgroup", .precision = precision, .bindings = 4,
+                                              .written_bindings = 1u << 3,
+                                              .push_constant_bytes = sizeof(Conv1x1Push),
+                                              .specialization = {kGroupX, kGroupY},
+                                              .texel_formats = {activation_texel_format(precision),
+                                                                weight_texel_format(precision)}});
+}
+
+bool Conv2d::uses_subgroup_kernel(const ActivationShape& in) const {
+  if (kernel_size_ == 3) return subgroup_;
+  // conv1x1_subgroup steps 4 input channels at a time; its texel view must fit the device's limit.
+  return subgroup_1x1_.has_value() && in.channels % 4 == 0 && in.elements() <= max_texel_elements_;
+}
 
 void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
                     const Binding& bias, const Buffer& output, const ActivationShape& out, bool relu,
@@ -99,6 +118,13 @@ void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& i
                  label.empty() ? fmt::format("conv3x3 {}->{}", in.channels, out.channels) : std::move(label));
   } else {
     const Conv1x1Push push{in.channels, out.channels, in.height, in.width, in.pad, out.pad, relu ? 1u : 0u};
+    if (uses_subgroup_kernel(in)) {
+      seq.dispatch(*subgroup_1x1_, {input, weights, bias, output}, push,
+                   {groups_for(out.channels, kSubgroupConvChannels),
+                    groups_for(groups_for(in.width, kSubgroupConv1x1Pixels), kGroupX), groups_for(in.height, kGroupY)},
+                   label.empty() ? fmt::format("conv1x1 {}->{}", in.channels, out.channels) : std::move(label));
+      return;
+    }
     seq.dispatch(kernel_, {input, weights, bias, output}, push,
                  {groups_for(groups_for(in.width, 4), kGroupX), groups_for(in.height, kGroupY), blocks},
                  label.empty() ? fmt::format("conv1x1 {}->{}", in.channels, out.channels) : std::move(label));

@@ -27,14 +27,18 @@ std::size_t activation_bytes(const ActivationShape& shape, Precision precision);
 // Which shader runs a 3x3 convolution: `subgroup` (conv3x3_subgroup.comp: 8 output channels x 4 pixels per
 // invocation, weights shared through subgroup broadcasts, operands read through texel buffers) where the
 // device can broadcast within subgroups of 8 or more, else `direct` (conv3x3.comp: 4 x 3, storage-buffer
-// loads). Both read the same weight layout.
+// loads). Both read the same weight layout. `direct` also keeps 1x1 convolutions on conv1x1.comp.
 enum class Conv3x3Kernel { automatic, direct, subgroup };
 
 class Conv2d {
  public:
   Conv2d(const Context& context, Precision precision, std::uint32_t kernel_size,
          Conv3x3Kernel choice = Conv3x3Kernel::automatic);
+  // 3x3: whether conv3x3_subgroup.comp runs. 1x1 runs conv1x1_subgroup.comp (8 output channels x 8 pixels,
+  // weights broadcast, input through a texel buffer) where the device can and the input has a multiple of 4
+  // channels, else conv1x1.comp: uses_subgroup_kernel(in) says which for an input.
   bool uses_subgroup_kernel() const { return subgroup_; }
+  bool uses_subgroup_kernel(const ActivationShape& in) const;
   void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
               const Binding& bias, const Buffer& output, const ActivationShape& out, bool relu,
               std::string label = {}) const;
@@ -47,6 +51,7 @@ class Conv2d {
   bool subgroup_;
   std::size_t max_texel_elements_;
   Kernel kernel_;
+  std::optional<Kernel> subgroup_1x1_;
 };
 
 // 2x2 max-pool, stride 2, floor semantics.

@@ -142,9 +142,23 @@ TEST(Conv2d, MisalignedTexelBindingIsAClearError) {
   }
 }
 
+// 37 input channels run conv1x1.comp; the others conv1x1_subgroup.comp where the device has it (checked below).
 TEST_P(Kernels, Conv1x1MatchesReference) {
-  check_conv(precision(), {37, 65, 5, 11, 1, 0, 0, false}, 21);  // like the 65-channel detector head
-  check_conv(precision(), {8, 12, 7, 9, 1, 1, 1, true}, 22);     // padded input and output
+  constexpr auto automatic = Conv3x3Kernel::automatic;  // `direct` would keep every 1x1 on conv1x1.comp
+  check_conv(precision(), {37, 65, 5, 11, 1, 0, 0, false}, 21, automatic);  // like the 65-channel detector head
+  check_conv(precision(), {8, 12, 7, 9, 1, 1, 1, true}, 22, automatic);     // padded input and output
+  check_conv(precision(), {256, 65, 7, 13, 1, 0, 0, false}, 23, automatic);  // partial 8-channel group and 8-pixel tile
+  check_conv(precision(), {4, 40, 5, 19, 1, 0, 0, true}, 24, automatic);     // one step of 4 input channels
+  check_conv(precision(), {12, 9, 3, 17, 1, 1, 0, true}, 25, automatic);     // padded input only
+  check_conv(precision(), {8, 12, 7, 9, 1, 1, 1, true}, 26);                 // conv1x1.comp where it would not run
+}
+
+TEST(Conv2d, Conv1x1UsesTheSubgroupKernelForMultiplesOfFourInputChannels) {
+  const Conv2d conv(gpu(), Precision::fp32, 1);
+  const bool available = gpu().caps().subgroup_broadcast8();
+  EXPECT_EQ(conv.uses_subgroup_kernel(ActivationShape{256, 60, 94, 0}), available);
+  EXPECT_FALSE(conv.uses_subgroup_kernel(ActivationShape{37, 5, 11, 0}));
+  EXPECT_FALSE(Conv2d(gpu(), Precision::fp32, 1, Conv3x3Kernel::direct).uses_subgroup_kernel(ActivationShape{8, 7, 9, 1}));
 }
 
 TEST_P(Kernels, MaxPool2x2MatchesReference) {
