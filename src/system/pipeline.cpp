@@ -176,7 +176,10 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
     if (r.keyframe) keyframes.write_ns(in->timestamp_ns, T_world_cam0);
     centres.push_back(T_world_cam0.translation());
     ++result.frames;
-    if (r.tracked) ++result.frames_tracked;
+    if (r.tracked)
+      ++result.frames_tracked;
+    else
+      result.untracked_frames.push_back(in->index);
     result.last_frame_tracked = r.tracked;
     result.timing.add(Module::Frame, since_last_output.ms());
     since_last_output = Stopwatch();

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -29,6 +30,7 @@ struct RunResult {
   std::size_t frames = 0;            // frames processed
   std::size_t frames_skipped = 0;    // unreadable images
   std::size_t frames_tracked = 0;    // frames whose pose came from the optimisation (the rest: predicted)
+  std::vector<std::size_t> untracked_frames;  // dataset indices of the processed frames whose pose was predicted
   bool last_frame_tracked = false;
   int keyframes = 0;
   int tracking_losses = 0;

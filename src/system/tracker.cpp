@@ -34,7 +34,6 @@ Tracker::Tracker(const VoConfig& config, const geometry::StereoCamera& stereo, P
       frontend_(&stereo_frontend),
       right_line_detector_(config.lines.detector),
       T_world_first_(T_world_first),
-      T_world_previous_(T_world_first),
       T_world_last_(T_world_first) {
   if (config_.tracking.init_min_keypoints != config.tracking.init_min_keypoints ||
       config_.tracking.init_min_stereo != config.tracking.init_min_stereo)
@@ -57,9 +56,10 @@ void Tracker::publish_reference(map::Id keyframe, const features::PointFeatures&
 }
 
 Eigen::Isometry3d Tracker::predicted_pose() const {
-  // Constant velocity while tracking; after a failure the last velocity is not trusted.
-  if (!last_frame_ || tracked_previous_ < config_.keyframe.min_tracked) return T_world_last_;
-  return T_world_last_ * (T_world_previous_.inverse() * T_world_last_);
+  // Constant velocity, carried on through untracked frames: a camera on a car or a drone keeps moving when the
+  // image goes black, and standing still there costs a metre a frame on KITTI.
+  if (!velocity_) return T_world_last_;
+  return T_world_last_ * *velocity_;
 }
 
 Tracker::Tracked Tracker::make_frame(const FrameInput& input, const Eigen::Isometry3d& pose, TimingReport& timing) const {
@@ -98,7 +98,7 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
                    map_.lines().size());
     }
     result.T_world_camera = current.frame.T_world_camera;
-    T_world_previous_ = T_world_last_ = result.T_world_camera;
+    T_world_last_ = result.T_world_camera;
     tracked_previous_ = result.tracked ? config_.keyframe.max_tracked : 0;
     frames_since_keyframe_ = 0;
     last_frame_ = std::move(current);
@@ -218,7 +218,10 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
                 result.keyframe ? ", keyframe" : "", result.tracked ? "" : ", LOST");
 
   result.T_world_camera = current.frame.T_world_camera;
-  T_world_previous_ = T_world_last_;
+  // Only a pair of well-tracked frames gives a velocity; a frame after a loss moves from a predicted pose.
+  const int min_tracked = config_.keyframe.min_tracked;
+  if (result.tracked && result.tracked_points >= min_tracked && tracked_previous_ >= min_tracked)
+    velocity_ = T_world_last_.inverse() * result.T_world_camera;
   T_world_last_ = result.T_world_camera;
   tracked_previous_ = result.tracked ? result.tracked_points : 0;
   last_frame_ = std::move(current);

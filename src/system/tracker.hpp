@@ -75,8 +75,10 @@ class Tracker {
   map::Map map_;
   bool initialised_ = false;
   std::optional<Tracked> last_frame_;
-  Eigen::Isometry3d T_world_previous_ = Eigen::Isometry3d::Identity();  // for the constant-velocity prior
   Eigen::Isometry3d T_world_last_ = Eigen::Isometry3d::Identity();
+  // The constant-velocity prior: the motion (T_last^-1 T_current) between the last two well-tracked frames. It is
+  // kept through untracked frames, so a dark stretch is bridged by extrapolation rather than by standing still.
+  std::optional<Eigen::Isometry3d> velocity_;
   int tracked_previous_ = 0;
   int frames_since_keyframe_ = 0;
   int segments_ = 0, losses_ = 0;

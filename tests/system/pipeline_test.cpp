@@ -58,6 +58,8 @@ TEST(Pipeline, RunsTheThreadedVoAndWritesEveryOutput) {
   EXPECT_EQ(result.frames, static_cast<std::size_t>(kFrames - 1));
   EXPECT_EQ(result.frames_skipped, 1u);
   EXPECT_EQ(result.tracking_losses, 0);
+  EXPECT_EQ(result.frames_tracked, result.frames);
+  EXPECT_TRUE(result.untracked_frames.empty());
   EXPECT_GE(result.keyframes, 2);
   const auto trajectory = io::read_tum(result.trajectory);
   ASSERT_EQ(trajectory.size(), static_cast<std::size_t>(kFrames - 1));

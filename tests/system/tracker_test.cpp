@@ -1,5 +1,5 @@
 // The optimisation stage on an exact synthetic stereo scene (oracle features, no GPU): initialisation, tracking,
-// keyframes, and recovery from a frame where nothing is seen.
+// keyframes, recovery from frames where nothing is seen, and the motion prior through them.
 #include <gtest/gtest.h>
 
 #include "system/oracle_frontend.hpp"
@@ -97,6 +97,27 @@ TEST(Tracker, ABlackFrameIsLostAndTrackingResumes) {
   }
   EXPECT_EQ(run.tracker.tracking_losses(), 1);
   EXPECT_EQ(run.tracker.segments(), 1) << "no segment can start on a frame without features";
+}
+
+// Through a dark stretch the predicted poses carry on at the last tracked velocity: on this smooth path they stay
+// close to the truth, where standing still at the last tracked pose would fall behind by a step per frame.
+TEST(Tracker, BlackFramesArePredictedAtTheLastVelocity) {
+  OracleRun run(30, 500, 13, 0.0, 3);
+  for (int f = 0; f < 30; ++f) {
+    FrameInput in = run.input(f);
+    const bool black = f >= 14 && f <= 16;
+    if (black) {
+      in.points = {};
+      in.matches = {};
+      in.right = cv::Mat(480, 752, CV_8UC1, cv::Scalar(0));
+    }
+    const auto r = run.track(in);
+    EXPECT_EQ(r.tracked, !black) << "frame " << f;
+    if (!black) continue;
+    const double step = (run.scene.T_world_left[f].translation() - run.scene.T_world_left[13].translation()).norm();
+    EXPECT_LT(run.position_error(r, f), 0.2 * step) << "frame " << f << " (" << step << " m from the last tracked)";
+  }
+  EXPECT_EQ(run.tracker.tracking_losses(), 3);
 }
 
 // When the map cannot be matched (here: no matches at all), the tracker starts a new map segment at the

@@ -1,7 +1,9 @@
 #include "system/vo_harness.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 
+#include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
 
 #include "io/dataset.hpp"
@@ -30,15 +32,36 @@ VoRun run_vo_on(const std::filesystem::path& dataset_dir, const system::VoConfig
   VoRun run;
   run.result = system::run_vo(*dataset, config, feature_frontend, stereo_frontend, run_options);
   run.trajectory = io::read_tum(run.result.trajectory);
-  const auto groundtruth = io::read_dataset_groundtruth(*dataset);
+  auto groundtruth = io::read_dataset_groundtruth(*dataset);
   if (!groundtruth) throw std::runtime_error("dataset has no ground truth: " + dataset_dir.string());
-  run.evaluation = eval::evaluate(run.trajectory, groundtruth->poses);
+  run.groundtruth = std::move(groundtruth->poses);
+  run.evaluation = eval::evaluate(run.trajectory, run.groundtruth);
   spdlog::info("VO on {}: {} frames, {} keyframes, {} losses, {} segments, ATE RMSE {:.4f} m (max {:.4f}), "
                "{:.2f} s wall ({:.1f} frames/s)",
                dataset_dir.string(), run.result.frames, run.result.keyframes, run.result.tracking_losses,
                run.result.segments, run.evaluation.ate.translation_m.rmse, run.evaluation.ate.translation_m.max,
                run.result.wall_seconds, double(run.result.frames) / std::max(1e-9, run.result.wall_seconds));
   return run;
+}
+
+eval::EvaluationResult evaluate_tracked_frames(const VoRun& run) {
+  // Trajectory line i is frame i only when no frame was skipped.
+  if (run.result.frames_skipped != 0 || run.trajectory.size() != run.result.frames)
+    throw std::runtime_error("evaluate_tracked_frames: the run skipped frames");
+  const auto& untracked = run.result.untracked_frames;
+  io::Trajectory tracked;
+  for (std::size_t i = 0; i < run.trajectory.size(); ++i)
+    if (std::find(untracked.begin(), untracked.end(), i) == untracked.end()) tracked.push_back(run.trajectory[i]);
+  return eval::evaluate(tracked, run.groundtruth);
+}
+
+void expect_every_frame_tracked(const VoRun& run, std::size_t frames) {
+  EXPECT_EQ(run.result.frames, frames);
+  EXPECT_EQ(run.result.frames_skipped, 0u);
+  EXPECT_EQ(run.result.frames_tracked, frames);
+  EXPECT_EQ(run.result.tracking_losses, 0);
+  EXPECT_EQ(run.result.segments, 1);
+  EXPECT_EQ(run.evaluation.associated_poses, frames);
 }
 
 }  // namespace vkvo::test

@@ -16,6 +16,7 @@ struct VoRun {
   system::RunResult result;
   eval::EvaluationResult evaluation;
   io::Trajectory trajectory;
+  io::Trajectory groundtruth;
 };
 
 // Any pair of point frontends (the feature stage's and the keyframe stage's) on the frames in `range`.
@@ -25,5 +26,12 @@ VoRun run_vo_on(const std::filesystem::path& dataset_dir, const system::VoConfig
 
 VoRun run_vo_with_opencv_frontend(const std::filesystem::path& dataset_dir, const system::VoConfig& config,
                                   const OpencvFrontendParams& frontend, const std::filesystem::path& out_dir);
+
+// The evaluation of the poses the tracker optimised only: the predicted poses of untracked frames (which no
+// image supports, e.g. black frames) are left out. Needs a run without skipped frames.
+eval::EvaluationResult evaluate_tracked_frames(const VoRun& run);
+
+// Every frame processed, tracked and written, none lost, one map segment.
+void expect_every_frame_tracked(const VoRun& run, std::size_t frames);
 
 }  // namespace vkvo::test

@@ -55,6 +55,8 @@ TEST(VoSynth, RecoversAfterTheLightsGoOut) {
   // as a new segment; either way every frame after the event must be tracked.
   EXPECT_LE(run.result.tracking_losses, 5);
   EXPECT_GE(run.result.frames_tracked, static_cast<std::size_t>(synth.num_frames - 5));
+  for (const std::size_t frame : run.result.untracked_frames)
+    EXPECT_TRUE(frame >= 15 && frame <= 19) << "frame " << frame << " untracked outside the dark frames";
   EXPECT_TRUE(run.result.last_frame_tracked);
   // Measured 0.070 m RMSE; same bound and reasons as TracksTheSmallPresetWithoutLoss.
   EXPECT_LT(run.evaluation.ate.translation_m.rmse, 0.15);
