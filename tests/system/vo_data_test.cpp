@@ -1,6 +1,6 @@
 // The VO on the real EuRoC MH_01 subset (130 stereo pairs, label `data`), with the OpenCV test frontend
-// (tests/system/opencv_frontend.*) standing in for SuperPoint while SuperPoint on lavapipe takes tens of seconds
-// per frame. What it checks is the VO itself on real images: rectification, stereo initialisation, tracking,
+// (tests/system/opencv_frontend.*) standing in for SuperPoint, which costs 2-6 s per frame on lavapipe (too slow
+// for whole clips in CI). What it checks is the VO itself on real images: rectification, stereo initialisation, tracking,
 // keyframes, BA, against the ORB-SLAM3 left-camera ground truth. The real SuperPoint runs are in
 // vo_superpoint_data_test.cpp.
 #include <gtest/gtest.h>
