@@ -3,6 +3,8 @@
 // for whole clips in CI). What it checks is the VO itself on real images: rectification, stereo initialisation, tracking,
 // keyframes, BA, against the ORB-SLAM3 left-camera ground truth. The real SuperPoint runs are in
 // vo_superpoint_data_test.cpp.
+#include <filesystem>
+
 #include <gtest/gtest.h>
 
 #include "common/test_support.hpp"
@@ -11,11 +13,15 @@
 namespace vkvo::system {
 namespace {
 
+// The whole clip with the config/ file of its dataset and the OpenCV frontend's default parameters.
+test::VoRun run_whole_clip(const std::filesystem::path& dataset, const char* config_file) {
+  const auto config = load_vo_config(test::source_dir() / "config" / config_file);
+  return test::run_vo_with_opencv_frontend(dataset, config, {}, test::temp_dir("vo_data") / "out");
+}
+
 TEST(VoData, EurocMh01SubsetWithTheOpencvFrontend) {
   VKVO_REQUIRE_DATA(dataset, "datasets/euroc_mh01_subset/MH_01_easy");
-  const auto config = load_vo_config(test::source_dir() / "config" / "euroc.yaml");
-  const auto dir = test::temp_dir("vo_data");
-  const auto run = test::run_vo_with_opencv_frontend(dataset, config, {}, dir / "out");
+  const auto run = run_whole_clip(dataset, "euroc.yaml");
   test::expect_every_frame_tracked(run, 130);
   // Measured: 3.9 mm RMSE (max 8.6 mm) over the 1.8 m path, 46 keyframes, no loss. The target for the
   // real SuperPoint + NN matcher is 3 cm; this frontend is bound at 1.5 cm (margin for run-to-run variation: the
@@ -28,9 +34,7 @@ TEST(VoData, EurocMh01SubsetWithTheOpencvFrontend) {
 
 TEST(VoData, Kitti01SubsetWithTheOpencvFrontend) {
   VKVO_REQUIRE_DATA(dataset, "datasets/kitti_seq01_f000-050/KITTI_sequence_2");
-  const auto config = load_vo_config(test::source_dir() / "config" / "kitti.yaml");
-  const auto dir = test::temp_dir("vo_data");
-  const auto run = test::run_vo_with_opencv_frontend(dataset, config, {}, dir / "out");
+  const auto run = run_whole_clip(dataset, "kitti.yaml");
   test::expect_every_frame_tracked(run, 51);
   // Measured: 0.74 m RMSE (SE3) over the 51.8 m path = 1.4% (ATE rot 0.68 deg), 45 keyframes: highway at ~1 m
   // per frame keeps the tracked count under keyframe.max_tracked. The bound is the target for the real
