@@ -30,7 +30,8 @@ struct RunResult {
   std::size_t frames = 0;            // frames processed
   std::size_t frames_skipped = 0;    // unreadable images
   std::size_t frames_tracked = 0;    // frames whose pose came from the optimisation (the rest: predicted)
-  std::vector<std::size_t> untracked_frames;  // dataset indices of the processed frames whose pose was predicted
+  // Frames whose pose was predicted, as FrameInput::index: the position in the processed range, not in the dataset.
+  std::vector<std::size_t> untracked_frames;
   bool last_frame_tracked = false;
   int keyframes = 0;
   int tracking_losses = 0;
