@@ -27,17 +27,17 @@ struct GemmPush {
   std::uint32_t m, n, k, lda, ldb, ldc, a_offset, b_offset, c_offset, a_batch, b_batch, c_batch, flags;
   float alpha;
 };
-// Output rows per invocation (ROWS in shaders/gemm.comp, kRows in gemm_subgroup.comp).
-constexpr std::uint32_t kGemmRows = 3, kSubgroupGemmRows = 4;
-// GemmPush::flags, as in shaders/gemm.comp and gemm_subgroup.comp (vec4 K/N: gemm.comp only; vec4 C: subgroup only).
+// Output rows per invocation (ROWS in shaders/gemm.comp, kRows in gemm_tiled.comp).
+constexpr std::uint32_t kGemmRows = 3, kTiledGemmRows = 4;
+// GemmPush::flags, as in shaders/gemm.comp and gemm_tiled.comp (vec4 K/N: gemm.comp only; vec4 C: tiled only).
 constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGemmAccumulate = 8, kGemmVec4K = 16,
                         kGemmVec4N = 32, kGemmVec4C = 64;
 
-// Output channels and pixels per invocation of conv3x3_subgroup.comp (and pixels of conv1x1_subgroup.comp).
-constexpr std::uint32_t kSubgroupConvChannels = 8, kSubgroupConvPixels = 4, kSubgroupConvRows = 3;
-constexpr std::uint32_t kSubgroupConv1x1Pixels = 8;
+// Output channels and pixels per invocation of conv3x3_tiled.comp (and pixels of conv1x1_tiled.comp).
+constexpr std::uint32_t kTiledConvChannels = 8, kTiledConvPixels = 4, kTiledConvRows = 3;
+constexpr std::uint32_t kTiledConv1x1Pixels = 8;
 
-// conv3x3_subgroup reads activations (one value per texel) and weights (4 output channels per texel) through
+// conv3x3_tiled reads activations (one value per texel) and weights (4 output channels per texel) through
 // uniform texel buffers in the storage precision.
 vk::Format activation_texel_format(Precision precision) {
   return precision == Precision::fp32 ? vk::Format::eR32Sfloat : vk::Format::eR16Sfloat;
@@ -46,26 +46,29 @@ vk::Format weight_texel_format(Precision precision) {
   return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR16G16B16A16Sfloat;
 }
 
-bool subgroup_kernels_available(const Context& context, Precision precision) {
-  return context.caps().subgroup_broadcast8() &&
-         context.supports_uniform_texel_format(activation_texel_format(precision)) &&
+}  // namespace
+
+bool tiled_kernels_available(const Context& context, Precision precision) {
+  return context.supports_uniform_texel_format(activation_texel_format(precision)) &&
          context.supports_uniform_texel_format(weight_texel_format(precision));
 }
 
-bool use_subgroup_conv(const Context& context, Precision precision, std::uint32_t kernel_size, Conv3x3Kernel choice) {
+namespace {
+
+bool use_tiled_conv(const Context& context, Precision precision, std::uint32_t kernel_size, Conv3x3Kernel choice) {
   if (kernel_size != 3 || choice == Conv3x3Kernel::direct) return false;
-  const bool available = subgroup_kernels_available(context, precision);
-  if (choice == Conv3x3Kernel::subgroup && !available)
+  const bool available = tiled_kernels_available(context, precision);
+  if (choice == Conv3x3Kernel::tiled && !available)
     throw std::invalid_argument(
-        "Conv2d: the subgroup 3x3 kernel needs subgroup broadcasts over >= 8 lanes and texel-buffer reads");
+        "Conv2d: the tiled 3x3 kernel needs uniform texel-buffer reads of the activation and weight formats");
   return available;
 }
 
-KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool subgroup) {
+KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool tiled) {
   if (kernel_size != 1 && kernel_size != 3) throw std::invalid_argument("Conv2d: kernel size must be 1 or 3");
   std::vector<vk::Format> texel_formats;
-  if (subgroup) texel_formats = {activation_texel_format(precision), weight_texel_format(precision)};
-  return {.op = kernel_size == 1 ? "conv1x1" : subgroup ? "conv3x3_subgroup" : "conv3x3", .precision = precision,
+  if (tiled) texel_formats = {activation_texel_format(precision), weight_texel_format(precision)};
+  return {.op = kernel_size == 1 ? "conv1x1" : tiled ? "conv3x3_tiled" : "conv3x3", .precision = precision,
           .bindings = 4,
           .written_bindings = 1u << 3,
           .push_constant_bytes = kernel_size == 3 ? std::uint32_t(sizeof(ConvPush)) : std::uint32_t(sizeof(Conv1x1Push)),
@@ -80,11 +83,11 @@ std::size_t activation_bytes(const ActivationShape& shape, Precision precision) 
 
 Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel_size, Conv3x3Kernel choice)
     : kernel_size_(kernel_size),
-      subgroup_(use_subgroup_conv(context, precision, kernel_size, choice)),
+      tiled_(use_tiled_conv(context, precision, kernel_size, choice)),
       max_texel_elements_(context.caps().max_texel_buffer_elements),
-      kernel_(context, conv_spec(precision, kernel_size, subgroup_)) {
-  if (kernel_size == 1 && choice != Conv3x3Kernel::direct && subgroup_kernels_available(context, precision))
-    subgroup_1x1_.emplace(context, KernelSpec{.op = "conv1x1_subgroup", .precision = precision, .bindings = 4,
+      kernel_(context, conv_spec(precision, kernel_size, tiled_)) {
+  if (kernel_size == 1 && choice != Conv3x3Kernel::direct && tiled_kernels_available(context, precision))
+    tiled_1x1_.emplace(context, KernelSpec{.op = "conv1x1_tiled", .precision = precision, .bindings = 4,
                                               .written_bindings = 1u << 3,
                                               .push_constant_bytes = sizeof(Conv1x1Push),
                                               .specialization = {kGroupX, kGroupY},
@@ -92,10 +95,10 @@ Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel
                                                                 weight_texel_format(precision)}});
 }
 
-bool Conv2d::uses_subgroup_kernel(const ActivationShape& in) const {
-  if (kernel_size_ == 3) return subgroup_;
-  // conv1x1_subgroup steps 4 input channels at a time; its texel view must fit the device's limit.
-  return subgroup_1x1_.has_value() && in.channels % 4 == 0 && in.elements() <= max_texel_elements_;
+bool Conv2d::uses_tiled_kernel(const ActivationShape& in) const {
+  if (kernel_size_ == 3) return tiled_;
+  // conv1x1_tiled steps 4 input channels at a time; its texel view must fit the device's limit.
+  return tiled_1x1_.has_value() && in.channels % 4 == 0 && in.elements() <= max_texel_elements_;
 }
 
 void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
@@ -107,21 +110,21 @@ void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& i
   if (kernel_size_ == 3) {
     if (in.pad != 1) throw std::invalid_argument("Conv2d 3x3: the input needs a 1-pixel zero border");
     const ConvPush push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
-    if (subgroup_ && in.elements() > max_texel_elements_)
+    if (tiled_ && in.elements() > max_texel_elements_)
       throw std::invalid_argument(fmt::format("Conv2d: {} input values exceed the device's {} texel-buffer elements",
                                               in.elements(), max_texel_elements_));
-    const std::uint32_t column_groups = groups_for(groups_for(in.width, subgroup_ ? kSubgroupConvPixels : 3), kGroupX);
-    const Groups groups = subgroup_ ? Groups{groups_for(out.channels, kSubgroupConvChannels), column_groups,
-                                             groups_for(groups_for(in.height, kSubgroupConvRows), kGroupY)}
+    const std::uint32_t column_groups = groups_for(groups_for(in.width, tiled_ ? kTiledConvPixels : 3), kGroupX);
+    const Groups groups = tiled_ ? Groups{groups_for(out.channels, kTiledConvChannels), column_groups,
+                                             groups_for(groups_for(in.height, kTiledConvRows), kGroupY)}
                                     : Groups{column_groups, groups_for(in.height, kGroupY), blocks};
     seq.dispatch(kernel_, {input, weights, bias, output}, push, groups,
                  label.empty() ? fmt::format("conv3x3 {}->{}", in.channels, out.channels) : std::move(label));
   } else {
     const Conv1x1Push push{in.channels, out.channels, in.height, in.width, in.pad, out.pad, relu ? 1u : 0u};
-    if (uses_subgroup_kernel(in)) {
-      seq.dispatch(*subgroup_1x1_, {input, weights, bias, output}, push,
-                   {groups_for(out.channels, kSubgroupConvChannels),
-                    groups_for(groups_for(in.width, kSubgroupConv1x1Pixels), kGroupX), groups_for(in.height, kGroupY)},
+    if (uses_tiled_kernel(in)) {
+      seq.dispatch(*tiled_1x1_, {input, weights, bias, output}, push,
+                   {groups_for(out.channels, kTiledConvChannels),
+                    groups_for(groups_for(in.width, kTiledConv1x1Pixels), kGroupX), groups_for(in.height, kGroupY)},
                    label.empty() ? fmt::format("conv1x1 {}->{}", in.channels, out.channels) : std::move(label));
       return;
     }
@@ -150,11 +153,11 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
       element_bytes_(storage_bytes(precision)),
       dummy_bias_(context, 16, BufferKind::device, "gemm.no_bias") {
   const vk::Format texel = weight_texel_format(precision);  // four elements per texel
-  const bool available = context.caps().subgroup_broadcast8() && context.supports_uniform_texel_format(texel);
-  if (choice == GemmKernel::subgroup && !available)
-    throw std::invalid_argument("Gemm: the subgroup kernel needs subgroup broadcasts over >= 8 lanes and texel reads");
+  const bool available = context.supports_uniform_texel_format(texel);
+  if (choice == GemmKernel::tiled && !available)
+    throw std::invalid_argument("Gemm: the tiled kernel needs uniform texel-buffer reads of the operand format");
   if (choice != GemmKernel::direct && available)
-    subgroup_kernel_.emplace(context, KernelSpec{.op = "gemm_subgroup", .precision = precision, .bindings = 4,
+    tiled_kernel_.emplace(context, KernelSpec{.op = "gemm_tiled", .precision = precision, .bindings = 4,
                                                  .written_bindings = 1u << 3, .push_constant_bytes = sizeof(GemmPush),
                                                  .specialization = {kGroupX * kGroupY},
                                                  .texel_formats = {texel, texel}});
@@ -171,8 +174,8 @@ std::uint32_t leading_b(const GemmShape& s) { return s.ldb ? s.ldb : (s.b_transp
 std::uint32_t leading_c(const GemmShape& s) { return s.ldc ? s.ldc : s.n; }
 }  // namespace
 
-bool Gemm::uses_subgroup_kernel(const GemmShape& s, const Binding& a, const Binding& b) const {
-  if (!subgroup_kernel_) return false;
+bool Gemm::uses_tiled_kernel(const GemmShape& s, const Binding& a, const Binding& b) const {
+  if (!tiled_kernel_) return false;
   // Texel views start at the binding offsets (256 bytes satisfies every device's texel offset alignment) and
   // must stay within the device's texel count; A is read 4 along K, B 4 along K (B^T) or N.
   const auto texels = [&](const Binding& x) {
@@ -197,11 +200,11 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   const Binding bindings[] = {a, b, bias ? *bias : Binding(dummy_bias_), c};
   std::uint32_t flags = (s.b_transposed ? kGemmTransposedB : 0u) | (bias ? kGemmBias : 0u) |
                         (s.relu ? kGemmRelu : 0u) | (s.accumulate ? kGemmAccumulate : 0u);
-  const bool subgroup = uses_subgroup_kernel(s, a, b);
+  const bool tiled = uses_tiled_kernel(s, a, b);
   Groups groups;
-  if (subgroup) {
+  if (tiled) {
     if (c.offset % 16 == 0 && multiples_of_4({ldc, s.c_offset, s.c_batch_stride})) flags |= kGemmVec4C;
-    groups = {groups_for(s.n, 8), groups_for(groups_for(s.m, kSubgroupGemmRows), kGroupX * kGroupY), s.batch};
+    groups = {groups_for(s.n, 8), groups_for(groups_for(s.m, kTiledGemmRows), kGroupX * kGroupY), s.batch};
   } else {
     // vec4 loads need every vec4 to start at a multiple of 4 elements (and the binding offsets at 16 bytes).
     const bool bindings_aligned = a.offset % 16 == 0 && b.offset % 16 == 0;
@@ -214,7 +217,7 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   }
   const GemmPush push{s.m, s.n, s.k, lda, ldb, ldc, s.a_offset, s.b_offset, s.c_offset,
                       s.a_batch_stride, s.b_batch_stride, s.c_batch_stride, flags, s.alpha};
-  seq.dispatch(subgroup ? *subgroup_kernel_ : kernel_, bindings, &push, sizeof(push), groups,
+  seq.dispatch(tiled ? *tiled_kernel_ : kernel_, bindings, &push, sizeof(push), groups,
                label.empty() ? fmt::format("gemm {}x{}x{}", s.m, s.n, s.k) : std::move(label));
 }
 

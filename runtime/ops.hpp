@@ -24,21 +24,25 @@ std::size_t activation_bytes(const ActivationShape& shape, Precision precision);
 // 3x3 (stride 1, pad 1; input must carry a 1-pixel zero border) or 1x1 convolution + bias (+ ReLU).
 // Weights in the "o4" layout (runtime/tensor_layout.hpp) at the op's storage precision; bias fp32, padded to 4.
 // Weights and bias may be ranges of one buffer (e.g. a model pack's data block bound at each tensor's offset).
-// Which shader runs a 3x3 convolution: `subgroup` (conv3x3_subgroup.comp: 8 output channels x 4 pixels per
-// invocation, weights shared through subgroup broadcasts, operands read through texel buffers) where the
-// device can broadcast within subgroups of 8 or more, else `direct` (conv3x3.comp: 4 x 3, storage-buffer
-// loads). Both read the same weight layout. `direct` also keeps 1x1 convolutions on conv1x1.comp.
-enum class Conv3x3Kernel { automatic, direct, subgroup };
+// Which shader runs a 3x3 convolution: `tiled` (conv3x3_tiled.comp: 8 output channels x 4 pixels x 3 rows per
+// invocation, operands read through texel buffers) where the device reads the texel formats it needs
+// (tiled_kernels_available), else `direct` (conv3x3.comp: 4 x 3, storage-buffer loads). Both read the same
+// weight layout. `direct` also keeps 1x1 convolutions on conv1x1.comp.
+enum class Conv3x3Kernel { automatic, direct, tiled };
+
+// Whether the device reads the uniform texel buffer formats of the tiled convolution and GEMM kernels at this
+// storage precision (one activation value per texel, 4 weights per texel).
+bool tiled_kernels_available(const Context& context, Precision precision);
 
 class Conv2d {
  public:
   Conv2d(const Context& context, Precision precision, std::uint32_t kernel_size,
          Conv3x3Kernel choice = Conv3x3Kernel::automatic);
-  // 3x3: whether conv3x3_subgroup.comp runs. 1x1 runs conv1x1_subgroup.comp (8 output channels x 8 pixels,
+  // 3x3: whether conv3x3_tiled.comp runs. 1x1 runs conv1x1_tiled.comp (8 output channels x 8 pixels,
   // weights broadcast, input through a texel buffer) where the device can and the input has a multiple of 4
-  // channels, else conv1x1.comp: uses_subgroup_kernel(in) says which for an input.
-  bool uses_subgroup_kernel() const { return subgroup_; }
-  bool uses_subgroup_kernel(const ActivationShape& in) const;
+  // channels, else conv1x1.comp: uses_tiled_kernel(in) says which for an input.
+  bool uses_tiled_kernel() const { return tiled_; }
+  bool uses_tiled_kernel(const ActivationShape& in) const;
   void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
               const Binding& bias, const Buffer& output, const ActivationShape& out, bool relu,
               std::string label = {}) const;
@@ -48,10 +52,10 @@ class Conv2d {
 
  private:
   std::uint32_t kernel_size_;
-  bool subgroup_;
+  bool tiled_;
   std::size_t max_texel_elements_;
   Kernel kernel_;
-  std::optional<Kernel> subgroup_1x1_;
+  std::optional<Kernel> tiled_1x1_;
 };
 
 // 2x2 max-pool, stride 2, floor semantics.
@@ -80,16 +84,16 @@ struct GemmShape {
   std::uint32_t a_batch_stride = 0, b_batch_stride = 0, c_batch_stride = 0;
 };
 
-// `subgroup` (gemm_subgroup.comp: 4 x 8 blocks, op(B) shared through subgroup broadcasts, operands read
-// through texel buffers) serves the calls whose operands are vec4-aligned where the device can broadcast within
-// subgroups of 8 or more; `direct` (gemm.comp) serves every other call and device.
-enum class GemmKernel { automatic, direct, subgroup };
+// `tiled` (gemm_tiled.comp: 4 x 8 blocks of C, operands read through texel buffers) serves the calls whose
+// operands are vec4-aligned where the device reads the texel formats it needs (tiled_kernels_available);
+// `direct` (gemm.comp) serves every other call and device.
+enum class GemmKernel { automatic, direct, tiled };
 
 class Gemm {
  public:
   Gemm(const Context& context, Precision precision, GemmKernel choice = GemmKernel::automatic);
-  // Whether a call with this shape and these bindings runs the subgroup kernel.
-  bool uses_subgroup_kernel(const GemmShape& shape, const Binding& a, const Binding& b) const;
+  // Whether a call with this shape and these bindings runs the tiled kernel.
+  bool uses_tiled_kernel(const GemmShape& shape, const Binding& a, const Binding& b) const;
   // `bias` (N floats, fp32) may be null.
   void record(Sequence& seq, const Buffer& a, const Buffer& b, const Buffer* bias, const Buffer& c,
               const GemmShape& shape, std::string label = {}) const;
@@ -100,7 +104,7 @@ class Gemm {
 
  private:
   Kernel kernel_;
-  std::optional<Kernel> subgroup_kernel_;
+  std::optional<Kernel> tiled_kernel_;
   std::size_t max_texel_elements_;
   std::size_t element_bytes_;
   Buffer dummy_bias_;

@@ -19,6 +19,7 @@ struct Options {
   std::string device;
   std::string model;
   bool kernels = false;
+  std::string filter;
   std::vector<std::string> networks;  // names of the --<network> flags given
 };
 
@@ -47,7 +48,7 @@ int run(const Options& options) {
   if (options.kernels || options.networks.empty()) {
     vkvo::app::print_bench_header();
     for (auto p : precisions)
-      for (const auto& result : vkvo::app::bench_kernels(context, p, options.repeat)) vkvo::app::print_bench_row(result);
+      for (const auto& result : vkvo::app::bench_kernels(context, p, options.repeat, options.filter)) vkvo::app::print_bench_row(result);
   }
   const vkvo::app::BenchOptions bench_options{options.repeat, precisions, options.model};
   for (const auto& bench : vkvo::app::network_bench_registry())
@@ -64,6 +65,7 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--device", options->device, "device index or name substring (default: $VKVO_DEVICE or best)");
        sub.add_option("--model", options->model, "model pack for the network benchmarks");
        sub.add_flag("--kernels", options->kernels, "the single-kernel table (default when no network is named)");
+       sub.add_option("--filter", options->filter, "kernel table: only kernels whose name contains this (e.g. gemm)");
        for (const auto& bench : vkvo::app::network_bench_registry())
          sub.add_flag_callback("--" + bench.name, [options, name = bench.name] { options->networks.push_back(name); },
                                bench.description);

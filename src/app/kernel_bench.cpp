@@ -48,7 +48,11 @@ double median_ms(const std::vector<double>& samples) {
   return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
 }
 
-std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision precision, int repeat) {
+std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision precision, int repeat,
+                                       std::string_view filter) {
+  const auto wanted = [&](const std::string& kernel_name) {
+    return filter.empty() || kernel_name.find(filter) != std::string::npos;
+  };
   const bool timestamps = ctx.caps().timestamps;
   const double elem = double(rt::storage_bytes(precision));
   std::vector<BenchResult> results;
@@ -58,13 +62,16 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
   struct ConvCase {
     std::uint32_t in_c, out_c, h, w, k;
   };
-  // Every 3x3 case runs with each kernel the device has (the subgroup kernel is what the networks use where
+  // Every 3x3 case runs with each kernel the device has (the tiled kernel is what the networks use where
   // available; the direct one is the fallback), so the gain of one over the other is measured, not assumed.
   std::vector<rt::Conv3x3Kernel> kernels3x3{rt::Conv3x3Kernel::direct};
-  if (ctx.caps().subgroup_broadcast8()) kernels3x3.insert(kernels3x3.begin(), rt::Conv3x3Kernel::subgroup);
+  if (rt::tiled_kernels_available(ctx, precision)) kernels3x3.insert(kernels3x3.begin(), rt::Conv3x3Kernel::tiled);
   for (const ConvCase c : {ConvCase{64, 64, 240, 376, 3}, ConvCase{1, 64, 480, 752, 3}, ConvCase{64, 64, 480, 752, 3},
                            ConvCase{128, 256, 60, 94, 3}, ConvCase{256, 65, 60, 94, 1}}) {
     for (const rt::Conv3x3Kernel kernel : c.k == 3 ? kernels3x3 : std::vector{rt::Conv3x3Kernel::automatic}) {
+      const char* suffix = c.k == 1 ? "" : kernel == rt::Conv3x3Kernel::tiled ? " tiled" : " direct";
+      const auto kernel_name = fmt::format("conv{}x{} {}->{} @{}x{}{}", c.k, c.k, c.in_c, c.out_c, c.w, c.h, suffix);
+      if (!wanted(kernel_name)) continue;
       const rt::ActivationShape in{c.in_c, c.h, c.w, c.k == 3 ? 1u : 0u};
       const rt::ActivationShape out{c.out_c, c.h, c.w, 1};
       rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));
@@ -81,13 +88,12 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
       seq.end();
       const double ms = time_sequence(seq, repeat, timestamps);
       const double bytes = (double(in.elements()) + double(out.elements())) * elem;
-      const char* suffix = c.k == 1 ? "" : kernel == rt::Conv3x3Kernel::subgroup ? " sg" : " direct";
-      results.push_back({fmt::format("conv{}x{} {}->{} @{}x{}{}", c.k, c.k, c.in_c, c.out_c, c.w, c.h, suffix), name, ms,
+      results.push_back({kernel_name, name, ms,
                          rt::Conv2d::flops(in, c.out_c, c.k) / (ms * 1e6), bytes / (ms * 1e6)});
     }
   }
 
-  {  // 2x2 max-pool of SuperPoint's first block
+  if (wanted("maxpool2x2 64ch @752x480")) {  // 2x2 max-pool of SuperPoint's first block
     const rt::ActivationShape in{64, 480, 752, 1};
     rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));
     rt::Buffer out_buf(ctx, rt::activation_bytes({64, 240, 376, 1}, precision));
@@ -105,6 +111,8 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
   for (const rt::GemmShape s : {rt::GemmShape{.m = 400, .n = 256, .k = 256, .b_transposed = true},
                                 rt::GemmShape{.m = 400, .n = 400, .k = 64, .b_transposed = true},
                                 rt::GemmShape{.m = 1000, .n = 512, .k = 512, .b_transposed = true}}) {
+    const auto kernel_name = fmt::format("gemm {}x{}x{}{}", s.m, s.n, s.k, s.b_transposed ? " B^T" : "");
+    if (!wanted(kernel_name)) continue;
     rt::Buffer a(ctx, std::size_t(s.m) * s.k * rt::storage_bytes(precision));
     rt::Buffer b(ctx, std::size_t(s.n) * s.k * rt::storage_bytes(precision));
     rt::Buffer c(ctx, std::size_t(s.m) * s.n * rt::storage_bytes(precision));
@@ -117,7 +125,7 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     seq.end();
     const double ms = time_sequence(seq, repeat, timestamps);
     const double bytes = (double(s.m) * s.k + double(s.n) * s.k + double(s.m) * s.n) * elem;
-    results.push_back({fmt::format("gemm {}x{}x{}{}", s.m, s.n, s.k, s.b_transposed ? " B^T" : ""), name, ms,
+    results.push_back({kernel_name, name, ms,
                        rt::Gemm::flops(s) / (ms * 1e6), bytes / (ms * 1e6)});
   }
   return results;

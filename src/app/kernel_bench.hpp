@@ -2,6 +2,7 @@
 // Kernel timings for `vkvo bench`: each kernel is recorded once and submitted `repeat` times; the median of the
 // GPU timestamps is reported (wall-clock time when the device has no timestamps).
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "runtime/context.hpp"
@@ -16,7 +17,9 @@ struct BenchResult {
   double gbytes = 0;  // GB/s of tensor traffic
 };
 
-std::vector<BenchResult> bench_kernels(const rt::Context& context, rt::Precision precision, int repeat);
+// `filter`: only the kernels whose name contains it (all when empty), e.g. "gemm" or "conv3x3 64->64".
+std::vector<BenchResult> bench_kernels(const rt::Context& context, rt::Precision precision, int repeat,
+                                       std::string_view filter = {});
 void print_bench_header();
 void print_bench_row(const BenchResult& result);
 // Median of GPU (or wall) milliseconds of `submit` over `repeat` runs after one warm-up.

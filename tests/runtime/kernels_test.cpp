@@ -107,28 +107,28 @@ TEST_P(Kernels, Conv3x3BiasReluMatchesReference) {
   check_conv(precision(), {1, 64, 24, 32, 3, 1, 1, true}, 13);  // SuperPoint's first layer shape
 }
 
-// The subgroup-broadcast kernel (8 output channels x 4 pixels per invocation): widths that leave partial
+// The tiled kernel (8 output channels x 4 pixels x 3 rows per invocation): widths that leave partial
 // 4-pixel blocks and workgroups, channel counts that leave a partial 8-channel group and a partial 4-block.
-TEST_P(Kernels, Conv3x3SubgroupKernelMatchesReference) {
-  if (!gpu().caps().subgroup_broadcast8()) GTEST_SKIP() << gpu().caps().name << " has no subgroup broadcast";
-  check_conv(precision(), {3, 8, 13, 29, 3, 1, 1, true}, 41, Conv3x3Kernel::subgroup);
-  check_conv(precision(), {16, 6, 9, 7, 3, 1, 0, false}, 42, Conv3x3Kernel::subgroup);
-  check_conv(precision(), {5, 13, 6, 70, 3, 1, 1, true}, 43, Conv3x3Kernel::subgroup);
-  check_conv(precision(), {64, 65, 11, 19, 3, 1, 1, false}, 44, Conv3x3Kernel::subgroup);
-  check_conv(precision(), {1, 64, 24, 32, 3, 1, 1, true}, 45, Conv3x3Kernel::subgroup);
+TEST_P(Kernels, Conv3x3TiledKernelMatchesReference) {
+  if (!tiled_kernels_available(gpu(), precision())) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
+  check_conv(precision(), {3, 8, 13, 29, 3, 1, 1, true}, 41, Conv3x3Kernel::tiled);
+  check_conv(precision(), {16, 6, 9, 7, 3, 1, 0, false}, 42, Conv3x3Kernel::tiled);
+  check_conv(precision(), {5, 13, 6, 70, 3, 1, 1, true}, 43, Conv3x3Kernel::tiled);
+  check_conv(precision(), {64, 65, 11, 19, 3, 1, 1, false}, 44, Conv3x3Kernel::tiled);
+  check_conv(precision(), {1, 64, 24, 32, 3, 1, 1, true}, 45, Conv3x3Kernel::tiled);
 }
 
-TEST(Conv2d, AutomaticChoiceUsesTheSubgroupKernelWhereTheDeviceCanBroadcast) {
+TEST(Conv2d, AutomaticChoiceUsesTheTiledKernelWhereTheDeviceReadsItsTexelFormats) {
   const Conv2d conv(gpu(), Precision::fp32, 3);
-  EXPECT_EQ(conv.uses_subgroup_kernel(), gpu().caps().subgroup_broadcast8());
-  EXPECT_FALSE(Conv2d(gpu(), Precision::fp32, 3, Conv3x3Kernel::direct).uses_subgroup_kernel());
-  EXPECT_FALSE(Conv2d(gpu(), Precision::fp32, 1).uses_subgroup_kernel());
+  EXPECT_EQ(conv.uses_tiled_kernel(), tiled_kernels_available(gpu(), Precision::fp32));
+  EXPECT_FALSE(Conv2d(gpu(), Precision::fp32, 3, Conv3x3Kernel::direct).uses_tiled_kernel());
+  EXPECT_FALSE(Conv2d(gpu(), Precision::fp32, 1).uses_tiled_kernel());
 }
 
 TEST(Conv2d, MisalignedTexelBindingIsAClearError) {
-  if (!gpu().caps().subgroup_broadcast8()) GTEST_SKIP() << gpu().caps().name << " has no subgroup broadcast";
+  if (!tiled_kernels_available(gpu(), Precision::fp32)) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
   ASSERT_GT(gpu().caps().min_texel_buffer_offset_alignment, 1u);
-  const Conv2d conv(gpu(), Precision::fp32, 3, Conv3x3Kernel::subgroup);
+  const Conv2d conv(gpu(), Precision::fp32, 3, Conv3x3Kernel::tiled);
   const ActivationShape shape{4, 5, 6, 1};
   Buffer input(gpu(), activation_bytes(shape, Precision::fp32)), weights(gpu(), 4096), bias(gpu(), 64);
   Buffer output(gpu(), activation_bytes(shape, Precision::fp32));
@@ -142,7 +142,7 @@ TEST(Conv2d, MisalignedTexelBindingIsAClearError) {
   }
 }
 
-// 37 input channels run conv1x1.comp; the others conv1x1_subgroup.comp where the device has it (checked below).
+// 37 input channels run conv1x1.comp; the others conv1x1_tiled.comp where the device has it (checked below).
 TEST_P(Kernels, Conv1x1MatchesReference) {
   constexpr auto automatic = Conv3x3Kernel::automatic;  // `direct` would keep every 1x1 on conv1x1.comp
   check_conv(precision(), {37, 65, 5, 11, 1, 0, 0, false}, 21, automatic);  // like the 65-channel detector head
@@ -153,12 +153,12 @@ TEST_P(Kernels, Conv1x1MatchesReference) {
   check_conv(precision(), {8, 12, 7, 9, 1, 1, 1, true}, 26);                 // conv1x1.comp where it would not run
 }
 
-TEST(Conv2d, Conv1x1UsesTheSubgroupKernelForMultiplesOfFourInputChannels) {
+TEST(Conv2d, Conv1x1UsesTheTiledKernelForMultiplesOfFourInputChannels) {
   const Conv2d conv(gpu(), Precision::fp32, 1);
-  const bool available = gpu().caps().subgroup_broadcast8();
-  EXPECT_EQ(conv.uses_subgroup_kernel(ActivationShape{256, 60, 94, 0}), available);
-  EXPECT_FALSE(conv.uses_subgroup_kernel(ActivationShape{37, 5, 11, 0}));
-  EXPECT_FALSE(Conv2d(gpu(), Precision::fp32, 1, Conv3x3Kernel::direct).uses_subgroup_kernel(ActivationShape{8, 7, 9, 1}));
+  const bool available = tiled_kernels_available(gpu(), Precision::fp32);
+  EXPECT_EQ(conv.uses_tiled_kernel(ActivationShape{256, 60, 94, 0}), available);
+  EXPECT_FALSE(conv.uses_tiled_kernel(ActivationShape{37, 5, 11, 0}));
+  EXPECT_FALSE(Conv2d(gpu(), Precision::fp32, 1, Conv3x3Kernel::direct).uses_tiled_kernel(ActivationShape{8, 7, 9, 1}));
 }
 
 TEST_P(Kernels, MaxPool2x2MatchesReference) {
@@ -208,8 +208,8 @@ void check_gemm(Precision precision, GemmShape s, bool with_bias, std::uint32_t 
   bias_buf.upload(std::span<const float>(bias));
   Buffer c_buf(ctx, expected.size() * storage_bytes(precision));
   const Gemm gemm(ctx, precision, kernel);
-  if (kernel == GemmKernel::subgroup) {
-    ASSERT_TRUE(gemm.uses_subgroup_kernel(s, Binding(a_buf), Binding(b_buf))) << "shape should be vec4-aligned";
+  if (kernel == GemmKernel::tiled) {
+    ASSERT_TRUE(gemm.uses_tiled_kernel(s, Binding(a_buf), Binding(b_buf))) << "shape should be vec4-aligned";
   }
   Sequence seq(ctx);
   seq.begin();
@@ -227,25 +227,25 @@ TEST_P(Kernels, GemmMatchesReference) {
   check_gemm(precision(), {.m = 1, .n = 1, .k = 3, .b_transposed = true}, false, 43);
 }
 
-// The subgroup kernel (4 x 8 blocks of C, op(B) broadcast within subgroups): sizes that leave partial row groups
+// The tiled kernel (4 x 8 blocks of C, operands through texel buffers): sizes that leave partial row groups
 // and partial 8-column blocks, both forms of B, N not a multiple of 4 (scalar stores) and a multiple (vec4).
-TEST_P(Kernels, GemmSubgroupKernelMatchesReference) {
-  if (!gpu().caps().subgroup_broadcast8()) GTEST_SKIP() << gpu().caps().name << " has no subgroup broadcast";
-  check_gemm(precision(), {.m = 37, .n = 68, .k = 128, .b_transposed = false}, true, 51, GemmKernel::subgroup);
+TEST_P(Kernels, GemmTiledKernelMatchesReference) {
+  if (!tiled_kernels_available(gpu(), precision())) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
+  check_gemm(precision(), {.m = 37, .n = 68, .k = 128, .b_transposed = false}, true, 51, GemmKernel::tiled);
   check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true, 52,
-             GemmKernel::subgroup);
-  check_gemm(precision(), {.m = 300, .n = 40, .k = 256, .b_transposed = true}, false, 53, GemmKernel::subgroup);
+             GemmKernel::tiled);
+  check_gemm(precision(), {.m = 300, .n = 40, .k = 256, .b_transposed = true}, false, 53, GemmKernel::tiled);
   check_gemm(precision(), {.m = 5, .n = 12, .k = 4, .b_transposed = false, .relu = true}, false, 54,
-             GemmKernel::subgroup);
+             GemmKernel::tiled);
 }
 
 TEST(Gemm, UnalignedShapesFallBackToTheDirectKernel) {
   const Gemm gemm(gpu(), Precision::fp32);
   Buffer a(gpu(), 4096), b(gpu(), 4096);
-  EXPECT_FALSE(gemm.uses_subgroup_kernel({.m = 8, .n = 8, .k = 3, .b_transposed = true}, Binding(a), Binding(b)));
-  EXPECT_FALSE(gemm.uses_subgroup_kernel({.m = 8, .n = 6, .k = 8}, Binding(a), Binding(b)));  // ldb = 6
-  EXPECT_EQ(gemm.uses_subgroup_kernel({.m = 8, .n = 8, .k = 8, .b_transposed = true}, Binding(a), Binding(b)),
-            gpu().caps().subgroup_broadcast8());
+  EXPECT_FALSE(gemm.uses_tiled_kernel({.m = 8, .n = 8, .k = 3, .b_transposed = true}, Binding(a), Binding(b)));
+  EXPECT_FALSE(gemm.uses_tiled_kernel({.m = 8, .n = 6, .k = 8}, Binding(a), Binding(b)));  // ldb = 6
+  EXPECT_EQ(gemm.uses_tiled_kernel({.m = 8, .n = 8, .k = 8, .b_transposed = true}, Binding(a), Binding(b)),
+            tiled_kernels_available(gpu(), Precision::fp32));
 }
 
 INSTANTIATE_TEST_SUITE_P(AllPrecisions, Kernels, ::testing::ValuesIn(kAllPrecisions),

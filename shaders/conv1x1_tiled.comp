@@ -1,18 +1,14 @@
 #version 450
-// 1x1 convolution + bias (+ ReLU), for devices with subgroups of at least 8 invocations and input channel counts
-// that are multiples of 4. Same weight layout ("o4": [O/4][I] vec4), activation layout and push constants as
-// conv1x1.comp.
+// 1x1 convolution + bias (+ ReLU), for input channel counts that are multiples of 4. Same weight layout
+// ("o4": [O/4][I] vec4), activation layout and push constants as conv1x1.comp.
 //
-// Each invocation computes 8 output channels x 8 adjacent pixels. Per step of 4 input channels, lane l of the
-// subgroup loads the weight vector of block l / 4, input channel l % 4, and subgroupBroadcast hands the 8
-// vectors to every lane; inputs are read through a uniform texel buffer. This is conv3x3_subgroup.comp's scheme
-// (see there why lavapipe needs it): conv1x1.comp makes 5 storage-buffer loads per 16 multiply-adds, this
-// kernel 1 texel fetch per 8.
+// Each invocation computes 8 output channels x 8 adjacent pixels. Per step of 4 input channels it fetches the
+// 8 weight vectors of its 2 blocks (the same texels in every lane) and 4 x 8 input values, through uniform
+// texel buffers: conv3x3_tiled.comp's scheme (see there why lavapipe needs texel buffers and why the weights
+// are not shared through subgroup broadcasts). conv1x1.comp makes 5 storage-buffer loads per 16 multiply-adds,
+// this kernel 40 texel fetches per 256.
 //
-// Every lane stays active to the end (out-of-range pixels read clamped addresses and skip the store):
-// subgroupBroadcast from an inactive lane is undefined.
-#extension GL_KHR_shader_subgroup_basic : require
-#extension GL_KHR_shader_subgroup_ballot : require
+// Out-of-range pixels read clamped addresses and skip the store.
 #extension GL_EXT_control_flow_attributes : require
 #include "precision.glsl"
 #include "tensor.glsl"
@@ -36,8 +32,8 @@ layout(push_constant) uniform Params {
 
 const uint kPixels = 8;
 
-// Weight vector of block b (0, 1) and input channel ic0 + j of the current step, held by lane 4 b + j.
-#define WEIGHT(b, j) avec4(subgroupBroadcast(held, (b) * 4 + (j)))
+// Weight vector of block b (0, 1) and input channel ic0 + j of the current step: the same texel in every lane.
+#define WEIGHT(b, j) avec4(texelFetch(weights, int(weight_row[b] + ic0 + (j))))
 
 // acc[b][i] += weight(b, j) * input(ic0 + j, pixel i) for both blocks and every pixel.
 #define CHANNEL(j)                                                              \
@@ -51,7 +47,7 @@ const uint kPixels = 8;
   }
 
 void main() {
-  // Grid: (output-channel groups of 8, column tiles, rows), as conv3x3_subgroup.comp.
+  // Grid: (output-channel groups of 8, column tiles, rows), as conv3x3_tiled.comp.
   const uint ob = gl_WorkGroupID.x;
   const uint x0 = (gl_WorkGroupID.y * gl_WorkGroupSize.x + gl_LocalInvocationID.x) * kPixels;
   const uint y = min(gl_WorkGroupID.z * gl_WorkGroupSize.y + gl_LocalInvocationID.y, p.height - 1u);
@@ -63,9 +59,8 @@ void main() {
   uint col[kPixels];
   [[unroll]] for (uint i = 0; i < kPixels; ++i) col[i] = row_start + min(x0 + i, p.width - 1u);
 
-  const uint lane = gl_SubgroupInvocationID & 7u;
-  const uint weight_block = min(2u * ob + lane / 4u, blocks4 - 1u);
-  const uint weight_base = weight_block * p.in_channels + (lane & 3u);
+  uint weight_row[2];  // texel of block b's weights for input channel 0 (clamped past the end, not stored)
+  [[unroll]] for (uint b = 0; b < 2u; ++b) weight_row[b] = min(2u * ob + b, blocks4 - 1u) * p.in_channels;
 
   vec4 acc[2][kPixels];
   [[unroll]] for (uint b = 0; b < 2u; ++b) {
@@ -74,7 +69,6 @@ void main() {
   }
 
   for (uint ic0 = 0; ic0 < p.in_channels; ic0 += 4u) {
-    const vec4 held = texelFetch(weights, int(weight_base + ic0));
     const uint base = ic0 * in_plane;
     CHANNEL(0) CHANNEL(1) CHANNEL(2) CHANNEL(3)
   }

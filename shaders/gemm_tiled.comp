@@ -1,0 +1,123 @@
+#version 450
+// C = alpha * A * op(B) + bias (+ C when accumulating) (+ ReLU): the operation and push constants of gemm.comp,
+// for operands the host has checked to be vec4-aligned along K (A, and B when transposed) or along N (B when
+// not transposed).
+//
+// Each invocation computes 4 rows x 8 columns of C; per step of 4 along K it fetches its 4 rows of A (one vec4
+// texel each) and the 4 x 8 slice of op(B) (8 texels, the same for every lane of a workgroup): 12 texel fetches
+// for 128 multiply-adds, where gemm.comp makes 7 storage-buffer loads for 48. Operands are read through uniform
+// texel buffers: lavapipe gathers texels with vector loads, where it loads storage buffers one lane at a time.
+//
+// Measured on lavapipe (Mesa 22.3, 2 Zen 4 cores), 1000x512x512 B^T: 32 ms when op(B) was fetched once per
+// subgroup and handed out with subgroupBroadcast, 20 ms with these direct fetches (see below), with the
+// epilogue's loops unrolled (see there).
+#extension GL_EXT_control_flow_attributes : require
+#include "precision.glsl"
+
+layout(local_size_x_id = 0, local_size_y = 1, local_size_z = 1) in;
+
+layout(binding = 0) uniform samplerBuffer a_texels;  // A, four consecutive elements per texel
+layout(binding = 1) uniform samplerBuffer b_texels;  // B, four consecutive elements per texel
+layout(std430, binding = 2) readonly buffer Bias { float bias[]; };
+layout(std430, binding = 3) buffer MatC { sfloat c[]; };
+layout(std430, binding = 3) buffer MatC4 { svec4 c4[]; };
+
+const uint kTransposedB = 1u, kBias = 2u, kRelu = 4u, kAccumulate = 8u, kVec4C = 64u;
+
+layout(push_constant) uniform Params {
+  uint m, n, k;
+  uint lda, ldb, ldc;
+  uint a_offset, b_offset, c_offset;
+  uint a_batch, b_batch, c_batch;  // element strides between consecutive batches (gl_WorkGroupID.z)
+  uint flags;
+  float alpha;
+} p;
+
+const uint kRows = 4;  // 8 measured slower on lavapipe (the 64 accumulators spill)
+
+void main() {
+  // Grid: (column blocks of 8, row groups, batch); rows vary within a workgroup, columns are uniform.
+  const uint n0 = gl_WorkGroupID.x * 8u;
+  const uint m0 = (gl_WorkGroupID.y * gl_WorkGroupSize.x + gl_LocalInvocationID.x) * kRows;
+  const uint batch = gl_WorkGroupID.z;
+  const bool transposed = (p.flags & kTransposedB) != 0u;
+
+  // Texel index of A's row i at k = 0 (rows past the end are clamped and not stored).
+  uint a_row[kRows];
+  [[unroll]] for (uint i = 0; i < kRows; ++i)
+    a_row[i] = (p.a_offset + batch * p.a_batch + min(m0 + i, p.m - 1u) * p.lda) / 4u;
+  // The 8 texels of op(B) that every lane needs per step of 4 along K, and how far they move per step:
+  //  B^T: texel j = row n0 + j of the stored B (= column n0 + j of op(B)), k .. k + 3; step 1 texel;
+  //  B:   texel j = row k + j / 2, columns n0 + 4 * (j % 2) .. + 3; step 4 rows = ldb texels.
+  // Every lane fetches them itself at the same index. Sharing one fetch per lane through subgroupBroadcast
+  // reads like less work, but lavapipe implements each broadcast component as a scalar loop over the 8 lanes
+  // (seen in its generated code): about four times the instructions of the texel fetch it replaces. On GPUs a
+  // fetch at a workgroup-uniform index is served once from the cache.
+  const uint b_base = p.b_offset + batch * p.b_batch;
+  uint b_texel[8];
+  [[unroll]] for (uint j = 0; j < 8u; ++j)
+    b_texel[j] = transposed ? (b_base + min(n0 + j, p.n - 1u) * p.ldb) / 4u
+                            : (b_base + (j / 2u) * p.ldb + min(n0 + 4u * (j % 2u), (p.n - 1u) & ~3u)) / 4u;
+  const uint b_step = transposed ? 1u : p.ldb;
+
+  vec4 acc[kRows][2];  // [row][columns n0..n0+3 | n0+4..n0+7]
+  [[unroll]] for (uint i = 0; i < kRows; ++i) acc[i][0] = acc[i][1] = vec4(0);
+
+  // One loop per form of op(B), the branch outside: a CPU driver runs both sides of a branch with lane masks
+  // (lavapipe does), so a branch inside the loop would cost every step both bodies.
+  const uint steps = p.k / 4u;
+  if (transposed) {
+    for (uint s = 0; s < steps; ++s) {
+      avec4 b[8];  // column j's 4 values along K
+      [[unroll]] for (uint j = 0; j < 8u; ++j) b[j] = avec4(texelFetch(b_texels, int(b_texel[j] + s)));
+      [[unroll]] for (uint i = 0; i < kRows; ++i) {
+        const avec4 a = avec4(texelFetch(a_texels, int(a_row[i] + s)));
+        acc[i][0] += vec4(dot(a, b[0]), dot(a, b[1]), dot(a, b[2]), dot(a, b[3]));
+        acc[i][1] += vec4(dot(a, b[4]), dot(a, b[5]), dot(a, b[6]), dot(a, b[7]));
+      }
+    }
+  } else {
+    for (uint s = 0; s < steps; ++s) {
+      avec4 r[8];  // row k + j / 2 of op(B), columns 0-3 (j even) or 4-7 (j odd)
+      [[unroll]] for (uint j = 0; j < 8u; ++j) r[j] = avec4(texelFetch(b_texels, int(b_texel[j] + s * b_step)));
+      [[unroll]] for (uint i = 0; i < kRows; ++i) {
+        const avec4 a = avec4(texelFetch(a_texels, int(a_row[i] + s)));
+        acc[i][0] += vec4(a.x * r[0] + a.y * r[2] + a.z * r[4] + a.w * r[6]);
+        acc[i][1] += vec4(a.x * r[1] + a.y * r[3] + a.z * r[5] + a.w * r[7]);
+      }
+    }
+  }
+
+  // Every loop below is unrolled and guarded by `if` rather than `break`: acc must only ever be indexed by
+  // constants, or the compiler turns it into a memory array that every FMA of the K loop reads and writes
+  // (lavapipe then stores it lane by lane under the execution mask, which made this kernel 2-3x slower).
+  const uint c_base = p.c_offset + batch * p.c_batch;
+  [[unroll]] for (uint h = 0; h < 2u; ++h) {
+    const uint col = n0 + 4u * h;
+    if (col < p.n) {
+      vec4 bias4 = vec4(0);
+      if ((p.flags & kBias) != 0u)
+        [[unroll]] for (uint j = 0; j < 4u; ++j) bias4[j] = bias[min(col + j, p.n - 1u)];
+      [[unroll]] for (uint i = 0; i < kRows; ++i) {
+        if (m0 + i < p.m) {
+          const uint at = c_base + (m0 + i) * p.ldc + col;
+          vec4 v = p.alpha * acc[i][h] + bias4;
+          if ((p.flags & kVec4C) != 0u && col + 4u <= p.n) {  // whole aligned vec4: one store
+            if ((p.flags & kAccumulate) != 0u) v += vec4(c4[at / 4u]);
+            if ((p.flags & kRelu) != 0u) v = max(v, 0.0);
+            c4[at / 4u] = svec4(v);
+          } else {
+            [[unroll]] for (uint j = 0; j < 4u; ++j) {
+              if (col + j < p.n) {
+                float x = v[j];
+                if ((p.flags & kAccumulate) != 0u) x += float(c[at + j]);
+                if ((p.flags & kRelu) != 0u) x = max(x, 0.0);
+                c[at + j] = sfloat(x);
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+}
