@@ -151,8 +151,11 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
                         .push_constant_bytes = sizeof(GemmPush), .specialization = {kGroupX, kGroupY}}),
       max_texel_elements_(context.caps().max_texel_buffer_elements),
       element_bytes_(storage_bytes(precision)),
+      elements_per_texel_(precision == Precision::fp32 ? 4 : 8),
       dummy_bias_(context, 16, BufferKind::device, "gemm.no_bias") {
-  const vk::Format texel = weight_texel_format(precision);  // four elements per texel
+  // gemm_tiled.comp reads fp32 operands 4 per RGBA32F texel and 16-bit ones 8 per RGBA32UI texel.
+  const vk::Format texel = precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat
+                                                        : vk::Format::eR32G32B32A32Uint;
   const bool available = context.supports_uniform_texel_format(texel);
   if (choice == GemmKernel::tiled && !available)
     throw std::invalid_argument("Gemm: the tiled kernel needs uniform texel-buffer reads of the operand format");
@@ -164,11 +167,12 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
 }
 
 namespace {
-bool multiples_of_4(std::initializer_list<std::uint32_t> values) {
+bool multiples_of(std::uint32_t divisor, std::initializer_list<std::uint32_t> values) {
   for (auto v : values)
-    if (v % 4 != 0) return false;
+    if (v % divisor != 0) return false;
   return true;
 }
+bool multiples_of_4(std::initializer_list<std::uint32_t> values) { return multiples_of(4, values); }
 std::uint32_t leading_a(const GemmShape& s) { return s.lda ? s.lda : s.k; }
 std::uint32_t leading_b(const GemmShape& s) { return s.ldb ? s.ldb : (s.b_transposed ? s.k : s.n); }
 std::uint32_t leading_c(const GemmShape& s) { return s.ldc ? s.ldc : s.n; }
@@ -177,14 +181,18 @@ std::uint32_t leading_c(const GemmShape& s) { return s.ldc ? s.ldc : s.n; }
 bool Gemm::uses_tiled_kernel(const GemmShape& s, const Binding& a, const Binding& b) const {
   if (!tiled_kernel_) return false;
   // Texel views start at the binding offsets (256 bytes satisfies every device's texel offset alignment) and
-  // must stay within the device's texel count; A is read 4 along K, B 4 along K (B^T) or N.
+  // must stay within the device's texel count; A is read along K, B along K (B^T) or N, a whole texel at a time.
+  // 16-bit texels hold 8 columns of B: N must fill them (fp32 clamps the last 4-column block instead).
+  const std::uint32_t per_texel = elements_per_texel_;
   const auto texels = [&](const Binding& x) {
     const std::size_t bytes = x.range == VK_WHOLE_SIZE ? x.buffer->size() - x.offset : x.range;
-    return bytes / (4 * element_bytes_);
+    return bytes / (per_texel * element_bytes_);
   };
   return a.offset % 256 == 0 && b.offset % 256 == 0 && texels(a) <= max_texel_elements_ &&
          texels(b) <= max_texel_elements_ &&
-         multiples_of_4({s.k, leading_a(s), s.a_offset, s.a_batch_stride, leading_b(s), s.b_offset, s.b_batch_stride});
+         multiples_of(per_texel, {s.k, leading_a(s), s.a_offset, s.a_batch_stride, leading_b(s), s.b_offset,
+                                  s.b_batch_stride}) &&
+         (s.b_transposed || per_texel == 4 || s.n % per_texel == 0);
 }
 
 void Gemm::record(Sequence& seq, const Buffer& a, const Buffer& b, const Buffer* bias, const Buffer& c,

@@ -84,9 +84,9 @@ struct GemmShape {
   std::uint32_t a_batch_stride = 0, b_batch_stride = 0, c_batch_stride = 0;
 };
 
-// `tiled` (gemm_tiled.comp: 4 x 8 blocks of C, operands read through texel buffers) serves the calls whose
-// operands are vec4-aligned where the device reads the texel formats it needs (tiled_kernels_available);
-// `direct` (gemm.comp) serves every other call and device.
+// `tiled` (gemm_tiled.comp: 4 x 8 blocks of C, operands read through texel buffers of 4 fp32 or 8 fp16
+// elements) serves the calls whose operands are aligned to whole texels (uses_tiled_kernel) where the device
+// reads the texel format; `direct` (gemm.comp) serves every other call and device.
 enum class GemmKernel { automatic, direct, tiled };
 
 class Gemm {
@@ -107,6 +107,7 @@ class Gemm {
   std::optional<Kernel> tiled_kernel_;
   std::size_t max_texel_elements_;
   std::size_t element_bytes_;
+  std::uint32_t elements_per_texel_;  // of gemm_tiled.comp's operand views
   Buffer dummy_bias_;
 };
 

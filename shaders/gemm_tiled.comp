@@ -16,8 +16,27 @@
 
 layout(local_size_x_id = 0, local_size_y = 1, local_size_z = 1) in;
 
-layout(binding = 0) uniform samplerBuffer a_texels;  // A, four consecutive elements per texel
-layout(binding = 1) uniform samplerBuffer b_texels;  // B, four consecutive elements per texel
+// fp32: four elements per RGBA32F texel. 16-bit storage: eight halves per RGBA32UI texel, unpacked here: a
+// texel fetch costs lavapipe about the same whatever the format, so packing 8 halves halves the fetches per
+// multiply-add (an RGBA16F view held 4). The host checks that K, the leading dimensions, offsets and batch
+// strides (and N when B is not transposed) are multiples of kPerTexel.
+#if defined(VKVO_VARIANT_fp32)
+layout(binding = 0) uniform samplerBuffer a_texels;  // A
+layout(binding = 1) uniform samplerBuffer b_texels;  // B
+const uint kPerTexel = 4;
+#define FETCH(texels, index, dst) dst[0] = avec4(texelFetch(texels, int(index)))
+#else
+layout(binding = 0) uniform usamplerBuffer a_texels;  // A
+layout(binding = 1) uniform usamplerBuffer b_texels;  // B
+const uint kPerTexel = 8;
+#define FETCH(texels, index, dst)                                                   \
+  {                                                                                 \
+    const uvec4 halves = texelFetch(texels, int(index));                            \
+    dst[0] = avec4(unpackHalf2x16(halves.x), unpackHalf2x16(halves.y));             \
+    dst[1] = avec4(unpackHalf2x16(halves.z), unpackHalf2x16(halves.w));             \
+  }
+#endif
+const uint kVecs = kPerTexel / 4;  // vec4s per texel
 layout(std430, binding = 2) readonly buffer Bias { float bias[]; };
 layout(std430, binding = 3) buffer MatC { sfloat c[]; };
 layout(std430, binding = 3) buffer MatC4 { svec4 c4[]; };
@@ -45,19 +64,25 @@ void main() {
   // Texel index of A's row i at k = 0 (rows past the end are clamped and not stored).
   uint a_row[kRows];
   [[unroll]] for (uint i = 0; i < kRows; ++i)
-    a_row[i] = (p.a_offset + batch * p.a_batch + min(m0 + i, p.m - 1u) * p.lda) / 4u;
-  // The 8 texels of op(B) that every lane needs per step of 4 along K, and how far they move per step:
-  //  B^T: texel j = row n0 + j of the stored B (= column n0 + j of op(B)), k .. k + 3; step 1 texel;
-  //  B:   texel j = row k + j / 2, columns n0 + 4 * (j % 2) .. + 3; step 4 rows = ldb texels.
+    a_row[i] = (p.a_offset + batch * p.a_batch + min(m0 + i, p.m - 1u) * p.lda) / kPerTexel;
+  // The 8 texels of op(B) that every lane needs per step of kPerTexel along K, and how far they move per step:
+  //  B^T: texel j = row n0 + j of the stored B (= column n0 + j of op(B)), kPerTexel values along K; step 1.
+  //  B:   fp32: texel j = row k + j / 2, columns n0 + 4 * (j % 2) .. + 3; 16-bit: texel j = row k + j, columns
+  //       n0 .. n0 + 7; step kPerTexel rows = ldb texels.
   // Every lane fetches them itself at the same index. Sharing one fetch per lane through subgroupBroadcast
   // reads like less work, but lavapipe implements each broadcast component as a scalar loop over the 8 lanes
   // (seen in its generated code): about four times the instructions of the texel fetch it replaces. On GPUs a
   // fetch at a workgroup-uniform index is served once from the cache.
   const uint b_base = p.b_offset + batch * p.b_batch;
   uint b_texel[8];
-  [[unroll]] for (uint j = 0; j < 8u; ++j)
-    b_texel[j] = transposed ? (b_base + min(n0 + j, p.n - 1u) * p.ldb) / 4u
-                            : (b_base + (j / 2u) * p.ldb + min(n0 + 4u * (j % 2u), (p.n - 1u) & ~3u)) / 4u;
+  [[unroll]] for (uint j = 0; j < 8u; ++j) {
+    if (transposed)
+      b_texel[j] = (b_base + min(n0 + j, p.n - 1u) * p.ldb) / kPerTexel;
+    else if (kPerTexel == 4u)
+      b_texel[j] = (b_base + (j / 2u) * p.ldb + min(n0 + 4u * (j % 2u), (p.n - 1u) & ~3u)) / 4u;
+    else
+      b_texel[j] = (b_base + j * p.ldb + n0) / kPerTexel;  // N is a multiple of 8 here
+  }
   const uint b_step = transposed ? 1u : p.ldb;
 
   vec4 acc[kRows][2];  // [row][columns n0..n0+3 | n0+4..n0+7]
@@ -65,25 +90,36 @@ void main() {
 
   // One loop per form of op(B), the branch outside: a CPU driver runs both sides of a branch with lane masks
   // (lavapipe does), so a branch inside the loop would cost every step both bodies.
-  const uint steps = p.k / 4u;
+  const uint steps = p.k / kPerTexel;
   if (transposed) {
     for (uint s = 0; s < steps; ++s) {
-      avec4 b[8];  // column j's 4 values along K
-      [[unroll]] for (uint j = 0; j < 8u; ++j) b[j] = avec4(texelFetch(b_texels, int(b_texel[j] + s)));
+      avec4 b[8][kVecs];  // column j's kPerTexel values along K
+      [[unroll]] for (uint j = 0; j < 8u; ++j) FETCH(b_texels, b_texel[j] + s, b[j]);
       [[unroll]] for (uint i = 0; i < kRows; ++i) {
-        const avec4 a = avec4(texelFetch(a_texels, int(a_row[i] + s)));
-        acc[i][0] += vec4(dot(a, b[0]), dot(a, b[1]), dot(a, b[2]), dot(a, b[3]));
-        acc[i][1] += vec4(dot(a, b[4]), dot(a, b[5]), dot(a, b[6]), dot(a, b[7]));
+        avec4 a[kVecs];
+        FETCH(a_texels, a_row[i] + s, a);
+        [[unroll]] for (uint v = 0; v < kVecs; ++v) {
+          acc[i][0] += vec4(dot(a[v], b[0][v]), dot(a[v], b[1][v]), dot(a[v], b[2][v]), dot(a[v], b[3][v]));
+          acc[i][1] += vec4(dot(a[v], b[4][v]), dot(a[v], b[5][v]), dot(a[v], b[6][v]), dot(a[v], b[7][v]));
+        }
       }
     }
   } else {
     for (uint s = 0; s < steps; ++s) {
-      avec4 r[8];  // row k + j / 2 of op(B), columns 0-3 (j even) or 4-7 (j odd)
-      [[unroll]] for (uint j = 0; j < 8u; ++j) r[j] = avec4(texelFetch(b_texels, int(b_texel[j] + s * b_step)));
+      avec4 r[kPerTexel][2];  // row k + kk of op(B): columns n0..n0+3 | n0+4..n0+7
+#if defined(VKVO_VARIANT_fp32)
+      [[unroll]] for (uint j = 0; j < 8u; ++j) r[j / 2u][j % 2u] = avec4(texelFetch(b_texels, int(b_texel[j] + s * b_step)));
+#else
+      [[unroll]] for (uint j = 0; j < 8u; ++j) FETCH(b_texels, b_texel[j] + s * b_step, r[j]);
+#endif
       [[unroll]] for (uint i = 0; i < kRows; ++i) {
-        const avec4 a = avec4(texelFetch(a_texels, int(a_row[i] + s)));
-        acc[i][0] += vec4(a.x * r[0] + a.y * r[2] + a.z * r[4] + a.w * r[6]);
-        acc[i][1] += vec4(a.x * r[1] + a.y * r[3] + a.z * r[5] + a.w * r[7]);
+        avec4 a[kVecs];
+        FETCH(a_texels, a_row[i] + s, a);
+        [[unroll]] for (uint v = 0; v < kVecs; ++v) {
+          const uint kk = 4u * v;
+          acc[i][0] += vec4(a[v].x * r[kk][0] + a[v].y * r[kk + 1u][0] + a[v].z * r[kk + 2u][0] + a[v].w * r[kk + 3u][0]);
+          acc[i][1] += vec4(a[v].x * r[kk][1] + a[v].y * r[kk + 1u][1] + a[v].z * r[kk + 2u][1] + a[v].w * r[kk + 3u][1]);
+        }
       }
     }
   }

@@ -227,16 +227,20 @@ TEST_P(Kernels, GemmMatchesReference) {
   check_gemm(precision(), {.m = 1, .n = 1, .k = 3, .b_transposed = true}, false, 43);
 }
 
-// The tiled kernel (4 x 8 blocks of C, operands through texel buffers): sizes that leave partial row groups
-// and partial 8-column blocks, both forms of B, N not a multiple of 4 (scalar stores) and a multiple (vec4).
+// The tiled kernel (4 x 8 blocks of C, operands through texel buffers of 4 fp32 or 8 fp16 elements): sizes
+// that leave partial row groups and, where the texel allows, partial 8-column blocks; both forms of B; N not a
+// multiple of 4 (scalar stores) and a multiple (vec4); K of a single texel.
 TEST_P(Kernels, GemmTiledKernelMatchesReference) {
   if (!tiled_kernels_available(gpu(), precision())) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
-  check_gemm(precision(), {.m = 37, .n = 68, .k = 128, .b_transposed = false}, true, 51, GemmKernel::tiled);
+  const std::uint32_t per_texel = precision() == Precision::fp32 ? 4 : 8;
+  check_gemm(precision(), {.m = 37, .n = 64 + per_texel, .k = 128, .b_transposed = false}, true, 51,
+             GemmKernel::tiled);
   check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true, 52,
              GemmKernel::tiled);
   check_gemm(precision(), {.m = 300, .n = 40, .k = 256, .b_transposed = true}, false, 53, GemmKernel::tiled);
-  check_gemm(precision(), {.m = 5, .n = 12, .k = 4, .b_transposed = false, .relu = true}, false, 54,
-             GemmKernel::tiled);
+  check_gemm(precision(), {.m = 5, .n = 8 + per_texel, .k = per_texel, .b_transposed = false, .relu = true}, false,
+             54, GemmKernel::tiled);
+  check_gemm(precision(), {.m = 9, .n = 13, .k = per_texel, .b_transposed = true}, false, 55, GemmKernel::tiled);
 }
 
 TEST(Gemm, UnalignedShapesFallBackToTheDirectKernel) {
@@ -246,6 +250,13 @@ TEST(Gemm, UnalignedShapesFallBackToTheDirectKernel) {
   EXPECT_FALSE(gemm.uses_tiled_kernel({.m = 8, .n = 6, .k = 8}, Binding(a), Binding(b)));  // ldb = 6
   EXPECT_EQ(gemm.uses_tiled_kernel({.m = 8, .n = 8, .k = 8, .b_transposed = true}, Binding(a), Binding(b)),
             tiled_kernels_available(gpu(), Precision::fp32));
+  // 16-bit operands are read 8 per texel: K, the leading dimensions and (B not transposed) N must fill them.
+  if (!gpu().caps().supports(Precision::fp16s)) return;
+  const Gemm half(gpu(), Precision::fp16s);
+  EXPECT_FALSE(half.uses_tiled_kernel({.m = 8, .n = 8, .k = 4, .b_transposed = true}, Binding(a), Binding(b)));
+  EXPECT_FALSE(half.uses_tiled_kernel({.m = 8, .n = 12, .k = 8}, Binding(a), Binding(b)));
+  EXPECT_EQ(half.uses_tiled_kernel({.m = 8, .n = 16, .k = 8}, Binding(a), Binding(b)),
+            tiled_kernels_available(gpu(), Precision::fp16s));
 }
 
 INSTANTIATE_TEST_SUITE_P(AllPrecisions, Kernels, ::testing::ValuesIn(kAllPrecisions),
