@@ -45,12 +45,17 @@ vk::Format activation_texel_format(Precision precision) {
 vk::Format weight_texel_format(Precision precision) {
   return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR16G16B16A16Sfloat;
 }
+// gemm_tiled.comp reads fp32 operands 4 per RGBA32F texel and 16-bit ones 8 per RGBA32UI texel.
+vk::Format gemm_texel_format(Precision precision) {
+  return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR32G32B32A32Uint;
+}
 
 }  // namespace
 
 bool tiled_kernels_available(const Context& context, Precision precision) {
   return context.supports_uniform_texel_format(activation_texel_format(precision)) &&
-         context.supports_uniform_texel_format(weight_texel_format(precision));
+         context.supports_uniform_texel_format(weight_texel_format(precision)) &&
+         context.supports_uniform_texel_format(gemm_texel_format(precision));
 }
 
 namespace {
@@ -88,11 +93,11 @@ Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel
       kernel_(context, conv_spec(precision, kernel_size, tiled_)) {
   if (kernel_size == 1 && choice != Conv3x3Kernel::direct && tiled_kernels_available(context, precision))
     tiled_1x1_.emplace(context, KernelSpec{.op = "conv1x1_tiled", .precision = precision, .bindings = 4,
-                                              .written_bindings = 1u << 3,
-                                              .push_constant_bytes = sizeof(Conv1x1Push),
-                                              .specialization = {kGroupX, kGroupY},
-                                              .texel_formats = {activation_texel_format(precision),
-                                                                weight_texel_format(precision)}});
+                                           .written_bindings = 1u << 3,
+                                           .push_constant_bytes = sizeof(Conv1x1Push),
+                                           .specialization = {kGroupX, kGroupY},
+                                           .texel_formats = {activation_texel_format(precision),
+                                                             weight_texel_format(precision)}});
 }
 
 bool Conv2d::uses_tiled_kernel(const ActivationShape& in) const {
@@ -115,8 +120,8 @@ void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& i
                                               in.elements(), max_texel_elements_));
     const std::uint32_t column_groups = groups_for(groups_for(in.width, tiled_ ? kTiledConvPixels : 3), kGroupX);
     const Groups groups = tiled_ ? Groups{groups_for(out.channels, kTiledConvChannels), column_groups,
-                                             groups_for(groups_for(in.height, kTiledConvRows), kGroupY)}
-                                    : Groups{column_groups, groups_for(in.height, kGroupY), blocks};
+                                          groups_for(groups_for(in.height, kTiledConvRows), kGroupY)}
+                                 : Groups{column_groups, groups_for(in.height, kGroupY), blocks};
     seq.dispatch(kernel_, {input, weights, bias, output}, push, groups,
                  label.empty() ? fmt::format("conv3x3 {}->{}", in.channels, out.channels) : std::move(label));
   } else {
@@ -153,17 +158,15 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
       element_bytes_(storage_bytes(precision)),
       elements_per_texel_(precision == Precision::fp32 ? 4 : 8),
       dummy_bias_(context, 16, BufferKind::device, "gemm.no_bias") {
-  // gemm_tiled.comp reads fp32 operands 4 per RGBA32F texel and 16-bit ones 8 per RGBA32UI texel.
-  const vk::Format texel = precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat
-                                                        : vk::Format::eR32G32B32A32Uint;
+  const vk::Format texel = gemm_texel_format(precision);
   const bool available = context.supports_uniform_texel_format(texel);
   if (choice == GemmKernel::tiled && !available)
     throw std::invalid_argument("Gemm: the tiled kernel needs uniform texel-buffer reads of the operand format");
   if (choice != GemmKernel::direct && available)
     tiled_kernel_.emplace(context, KernelSpec{.op = "gemm_tiled", .precision = precision, .bindings = 4,
-                                                 .written_bindings = 1u << 3, .push_constant_bytes = sizeof(GemmPush),
-                                                 .specialization = {kGroupX * kGroupY},
-                                                 .texel_formats = {texel, texel}});
+                                              .written_bindings = 1u << 3, .push_constant_bytes = sizeof(GemmPush),
+                                              .specialization = {kGroupX * kGroupY},
+                                              .texel_formats = {texel, texel}});
 }
 
 namespace {

@@ -31,7 +31,7 @@ std::size_t activation_bytes(const ActivationShape& shape, Precision precision);
 enum class Conv3x3Kernel { automatic, direct, tiled };
 
 // Whether the device reads the uniform texel buffer formats of the tiled convolution and GEMM kernels at this
-// storage precision (one activation value per texel, 4 weights per texel).
+// storage precision (one activation value per texel, 4 weights per texel, 4 fp32 or 8 fp16 GEMM operands).
 bool tiled_kernels_available(const Context& context, Precision precision);
 
 class Conv2d {
