@@ -147,7 +147,7 @@ struct SuperGlue::Impl {
         keypoints_kernel(ctx, {.op = "superglue_keypoints", .precision = precision, .bindings = 3,
                                .written_bindings = 1u << 2, .push_constant_bytes = 24, .specialization = {}}),
         softmax_kernel(ctx, {.op = "superglue_softmax", .precision = precision, .bindings = 1,
-                             .written_bindings = 1u, .push_constant_bytes = 8, .specialization = {}}),
+                             .written_bindings = 1u, .push_constant_bytes = 12, .specialization = {}}),
         scores_kernel(ctx, {.op = "superglue_scores", .precision = precision, .bindings = 2,
                             .written_bindings = 1u << 1, .push_constant_bytes = 20, .specialization = {}}),
         sinkhorn_kernel(ctx, {.op = "superglue_sinkhorn", .precision = precision, .bindings = 3,
@@ -264,12 +264,15 @@ struct SuperGlue::Impl {
     enc_a = make_buffer(rows * widest * sb, "superglue.encoder_a");
     enc_b = make_buffer(rows * widest * sb, "superglue.encoder_b");
     state = make_buffer(rows * 2 * dim * sb, "superglue.state");
-    qkv = make_buffer(rows * 3 * dim * sb, "superglue.qkv");
+    // kScoreAlign spare rows past the last keypoint: the attention's p.v reads V rows up to the padded key count
+    // (see attention()); they stay zero, nothing writes them.
+    qkv = make_buffer((rows + kScoreAlign) * 3 * dim * sb, "superglue.qkv");
+    qkv->fill_zero();
     hidden = make_buffer(rows * 2 * dim * sb, "superglue.hidden");
     // Scores of one set's queries against either set (self or cross layers): rows x max(n0, n1) per head.
     const std::size_t widest_set = std::max(n0, n1);
-    attn0 = make_buffer(std::size_t(config.heads) * n0 * widest_set * sb, "superglue.attention0");
-    attn1 = make_buffer(std::size_t(config.heads) * n1 * widest_set * sb, "superglue.attention1");
+    attn0 = make_buffer(std::size_t(config.heads) * n0 * padded_keys(widest_set) * sb, "superglue.attention0");
+    attn1 = make_buffer(std::size_t(config.heads) * n1 * padded_keys(widest_set) * sb, "superglue.attention1");
     z = make_buffer((n0 + 1) * (n1 + 1) * 4, "superglue.couplings");
     u = make_buffer((n0 + 1) * 4, "superglue.u");
     v = make_buffer((n1 + 1) * 4, "superglue.v");
@@ -290,24 +293,34 @@ struct SuperGlue::Impl {
     gemm.record(*seq, x, *weights, &bias, y, s, label);
   }
 
+  // Score rows are padded to a multiple of kScoreAlign keys: the p.v GEMM then reads whole texels of P along K
+  // for any key count (the tiled kernel; gemm.comp would serve unaligned counts several times slower) and the
+  // softmax reads vec4s. The softmax sets the padding columns to zero, so the V rows they meet (the other
+  // set's, or the zeroed spare rows of qkv) add nothing.
+  static constexpr std::uint32_t kScoreAlign = 8;
+  static std::uint32_t padded_keys(std::size_t keys) {
+    return std::uint32_t((keys + kScoreAlign - 1) / kScoreAlign * kScoreAlign);
+  }
+
   // Multi-head attention of keypoint set `a` (queries) over set `src` (keys, values); the heads' outputs go to the
   // message half of `a`'s state rows.
   void attention(int a, int src, const rt::Buffer& scores, const std::string& label) {
     const std::uint32_t dim = config.descriptor_dim, heads = config.heads, head_dim = dim / heads;
     const std::uint32_t rows_a = a == 0 ? n0 : n1, rows_s = src == 0 ? n0 : n1;
     const std::uint32_t first_a = a == 0 ? 0 : n0, first_s = src == 0 ? 0 : n0;
+    const std::uint32_t keys = padded_keys(rows_s);  // score row stride
     gemm.record(*seq, *qkv, *qkv, nullptr, scores,
                 {.m = rows_a, .n = rows_s, .k = head_dim, .b_transposed = true,
-                 .alpha = 1.0f / std::sqrt(float(head_dim)), .lda = 3 * dim, .ldb = 3 * dim, .ldc = rows_s,
+                 .alpha = 1.0f / std::sqrt(float(head_dim)), .lda = 3 * dim, .ldb = 3 * dim, .ldc = keys,
                  .a_offset = first_a * 3 * dim, .b_offset = first_s * 3 * dim + dim, .batch = heads,
-                 .a_batch_stride = head_dim, .b_batch_stride = head_dim, .c_batch_stride = rows_a * rows_s},
+                 .a_batch_stride = head_dim, .b_batch_stride = head_dim, .c_batch_stride = rows_a * keys},
                 label + " q.k");
-    struct SoftmaxPush { std::uint32_t rows, cols; } sp{heads * rows_a, rows_s};
+    struct SoftmaxPush { std::uint32_t rows, cols, stride; } sp{heads * rows_a, rows_s, keys};
     seq->dispatch(softmax_kernel, {rt::Binding(scores)}, sp, {rt::groups_for(sp.rows, 64)}, label + " softmax");
     gemm.record(*seq, scores, *qkv, nullptr, *state,
-                {.m = rows_a, .n = head_dim, .k = rows_s, .lda = rows_s, .ldb = 3 * dim, .ldc = 2 * dim,
+                {.m = rows_a, .n = head_dim, .k = keys, .lda = keys, .ldb = 3 * dim, .ldc = 2 * dim,
                  .b_offset = first_s * 3 * dim + 2 * dim, .c_offset = first_a * 2 * dim + dim, .batch = heads,
-                 .a_batch_stride = rows_a * rows_s, .b_batch_stride = head_dim, .c_batch_stride = head_dim},
+                 .a_batch_stride = rows_a * keys, .b_batch_stride = head_dim, .c_batch_stride = head_dim},
                 label + " p.v");
   }
 
