@@ -1,16 +1,17 @@
 #version 450
 // C = alpha * A * op(B) + bias (+ C when accumulating) (+ ReLU): the operation and push constants of gemm.comp,
-// for operands the host has checked to be vec4-aligned along K (A, and B when transposed) or along N (B when
-// not transposed).
+// for operands the host has checked to be aligned to whole texels (kPerTexel elements, below) along K (A, and B
+// when transposed) or along N (B when not transposed).
 //
-// Each invocation computes 4 rows x 8 columns of C; per step of 4 along K it fetches its 4 rows of A (one vec4
-// texel each) and the 4 x 8 slice of op(B) (8 texels, the same for every lane of a workgroup): 12 texel fetches
-// for 128 multiply-adds, where gemm.comp makes 7 storage-buffer loads for 48. Operands are read through uniform
-// texel buffers: lavapipe gathers texels with vector loads, where it loads storage buffers one lane at a time.
+// Each invocation computes 4 rows x 8 columns of C; per step of kPerTexel along K it fetches its 4 rows of A
+// (one texel each) and the kPerTexel x 8 slice of op(B) (8 texels, the same for every lane of a workgroup):
+// 12 texel fetches for 128 multiply-adds in fp32, 256 in 16-bit storage, where gemm.comp makes 7 storage-buffer
+// loads for 48. Operands are read through uniform texel buffers: lavapipe gathers texels with vector loads,
+// where it loads storage buffers one lane at a time.
 //
-// Measured on lavapipe (Mesa 22.3, 2 Zen 4 cores), 1000x512x512 B^T: 32 ms when op(B) was fetched once per
-// subgroup and handed out with subgroupBroadcast, 20 ms with these direct fetches (see below), with the
-// epilogue's loops unrolled (see there).
+// Measured on lavapipe (Mesa 22.3, 2 Zen 4 cores), 1000x512x512 B^T fp32: 32 ms when op(B) was fetched once
+// per subgroup and handed out with subgroupBroadcast, 20 ms with these direct fetches (see below) and the
+// epilogue's loops unrolled (see there); fp16s: 24 ms with RGBA16F texels, 16.6 ms with 8 halves per texel.
 #extension GL_EXT_control_flow_attributes : require
 #include "precision.glsl"
 
