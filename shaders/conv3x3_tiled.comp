@@ -45,7 +45,6 @@ layout(push_constant) uniform Params {
 #endif
 const uint kPixels = 4;   // adjacent output pixels per invocation
 const uint kRows = ROWS;  // output rows per invocation
-const uint kItems = 18;   // weight vectors per input channel: 2 blocks x 9 taps
 const uint kAcc = 2 * kRows * kPixels;
 
 // Weight vector `item` (= block * 9 + tap) of the current input channel: the same texel in every lane.

@@ -93,7 +93,7 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     }
   }
 
-  if (wanted("maxpool2x2 64ch @752x480")) {  // 2x2 max-pool of SuperPoint's first block
+  if (const std::string kernel_name = "maxpool2x2 64ch @752x480"; wanted(kernel_name)) {  // SuperPoint's first pool
     const rt::ActivationShape in{64, 480, 752, 1};
     rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));
     rt::Buffer out_buf(ctx, rt::activation_bytes({64, 240, 376, 1}, precision));
@@ -104,7 +104,7 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     pool.record(seq, in_buf, in, out_buf, 1);
     seq.end();
     const double ms = time_sequence(seq, repeat, timestamps);
-    results.push_back({"maxpool2x2 64ch @752x480", name, ms, 0, double(in.elements()) * 1.25 * elem / (ms * 1e6)});
+    results.push_back({kernel_name, name, ms, 0, double(in.elements()) * 1.25 * elem / (ms * 1e6)});
   }
 
   // GEMMs at SuperGlue's shapes for 400 keypoints: a projection (B^T = weight) and attention scores.
