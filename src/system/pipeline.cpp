@@ -16,6 +16,7 @@
 #include "io/map_ply.hpp"
 #include "io/run_summary.hpp"
 #include "io/trajectory.hpp"
+#include "system/gap_bridge.hpp"
 #include "system/tracker.hpp"
 
 namespace vkvo::system {
@@ -101,6 +102,16 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   io::TumTrajectoryWriter trajectory(result.trajectory);
   io::TumTrajectoryWriter keyframes(result.keyframes_file);
   std::vector<Eigen::Vector3d> centres;
+  GapBridge gap_bridge(config.tracking.bridge_max_frames);
+  auto write_poses = [&](const std::vector<FramePose>& poses) {
+    for (const FramePose& pose : poses) {
+      trajectory.write_ns(pose.timestamp_ns, pose.T_world_camera);
+      centres.push_back(pose.T_world_camera.translation());
+    }
+    if (poses.size() > 1 && poses.front().bridged)
+      spdlog::info("tracking resumed: {} untracked frame(s) interpolated between the poses around the gap",
+                   poses.size() - 1);
+  };
 
   Progress progress(dataset.size(), options.progress);
   const auto start = std::chrono::steady_clock::now();
@@ -172,9 +183,8 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
       return;
     }
     const Eigen::Isometry3d T_world_cam0 = r.T_world_camera * T_rect_rawleft;
-    trajectory.write_ns(in->timestamp_ns, T_world_cam0);
+    write_poses(gap_bridge.push({.timestamp_ns = in->timestamp_ns, .T_world_camera = T_world_cam0, .tracked = r.tracked}));
     if (r.keyframe) keyframes.write_ns(in->timestamp_ns, T_world_cam0);
-    centres.push_back(T_world_cam0.translation());
     ++result.frames;
     if (r.tracked)
       ++result.frames_tracked;
@@ -190,6 +200,8 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
                          tbb::make_filter<void, FramePtr>(tbb::filter_mode::serial_in_order, read) &
                              tbb::make_filter<FramePtr, FramePtr>(tbb::filter_mode::serial_in_order, features) &
                              tbb::make_filter<FramePtr, void>(tbb::filter_mode::serial_in_order, optimise));
+  write_poses(gap_bridge.flush());  // a gap still open at the end keeps its predicted poses
+  result.frames_bridged = gap_bridge.frames_bridged();
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   const auto& map = tracker.map();
@@ -206,6 +218,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   summary["frames"] = result.frames;
   summary["frames_skipped"] = result.frames_skipped;
   summary["frames_tracked"] = result.frames_tracked;
+  summary["frames_bridged"] = result.frames_bridged;
   summary["keyframes"] = result.keyframes;
   summary["tracking_losses"] = result.tracking_losses;
   summary["map_segments"] = result.segments;

@@ -32,6 +32,8 @@ struct RunResult {
   std::size_t frames_tracked = 0;    // frames whose pose came from the optimisation (the rest: predicted)
   // Frames whose pose was predicted, as FrameInput::index: the position in the processed range, not in the dataset.
   std::vector<std::size_t> untracked_frames;
+  // Untracked frames whose written pose was interpolated across the gap once tracking resumed (GapBridge).
+  int frames_bridged = 0;
   bool last_frame_tracked = false;
   int keyframes = 0;
   int tracking_losses = 0;
@@ -39,7 +41,8 @@ struct RunResult {
   std::size_t map_points = 0, map_lines = 0;
   double wall_seconds = 0;
   TimingReport timing;
-  std::filesystem::path trajectory;  // TUM, cam0 poses (raw left camera), one line per processed frame
+  std::filesystem::path trajectory;  // TUM, cam0 poses (raw left camera), one line per processed frame; an
+                                     // untracked frame's line waits until its gap closes (GapBridge)
   std::filesystem::path keyframes_file;
   std::filesystem::path summary;
 };

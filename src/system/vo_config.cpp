@@ -15,6 +15,8 @@ TrackingParams load_tracking_params(const YAML::Node& section) {
   io::read_param(section, "use_lines", p.use_lines);
   io::read_param(section, "queue_capacity", p.queue_capacity);
   if (p.queue_capacity < 1) throw std::runtime_error("tracking.queue_capacity must be at least 1");
+  io::read_param(section, "bridge_max_frames", p.bridge_max_frames);
+  if (p.bridge_max_frames < 0) throw std::runtime_error("tracking.bridge_max_frames must not be negative");
   return p;
 }
 

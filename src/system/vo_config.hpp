@@ -25,6 +25,9 @@ struct TrackingParams {
   double reference_image_area = 752.0 * 480.0;
   bool use_lines = true;        // false: the paper's "w/o line" ablation
   int queue_capacity = 2;       // frames in flight between the feature and the optimisation stage
+  // Untracked frames held back (at most this many) until tracking resumes, then written interpolated between
+  // the tracked poses around them (GapBridge); 0 writes the constant-velocity predictions as they come.
+  int bridge_max_frames = 20;
 };
 TrackingParams load_tracking_params(const YAML::Node& section);
 

@@ -37,6 +37,30 @@ fs::path write_kitti_folder(const test::SyntheticScene& scene, const test::Oracl
   return dir;
 }
 
+VoConfig points_only_config() {
+  VoConfig config;
+  config.tracking.use_lines = false;  // the placeholder images have no lines
+  config.triangulation.max_depth = 20.0;
+  return config;
+}
+
+// Every trajectory line within `tolerance_m` of the truth (world = first camera; KITTI is rectified, so no
+// rectifying rotation), in time order.
+void expect_trajectory_near_truth(const fs::path& file, const test::SyntheticScene& scene, std::size_t lines,
+                                  double tolerance_m) {
+  const auto trajectory = io::read_tum(file);
+  ASSERT_EQ(trajectory.size(), lines);
+  for (std::size_t i = 0; i < trajectory.size(); ++i) {
+    const auto& pose = trajectory[i];
+    if (i > 0) {
+      EXPECT_GT(pose.t, trajectory[i - 1].t) << "line " << i;
+    }
+    const int f = static_cast<int>(std::lround(pose.t / 0.05));
+    const Eigen::Isometry3d truth = scene.T_world_left[0].inverse() * scene.T_world_left[f];
+    EXPECT_LT((pose.pose.translation() - truth.translation()).norm(), tolerance_m) << "frame " << f;
+  }
+}
+
 TEST(Pipeline, RunsTheThreadedVoAndWritesEveryOutput) {
   constexpr int kFrames = 40;
   const auto scene = test::SyntheticScene::make(kFrames, 600, 21);
@@ -47,13 +71,10 @@ TEST(Pipeline, RunsTheThreadedVoAndWritesEveryOutput) {
   { std::ofstream(dir / "seq" / "image_1" / "000020.png") << "not a png"; }
 
   const auto dataset = io::open_dataset(dir / "seq");
-  VoConfig config;
-  config.tracking.use_lines = false;
-  config.triangulation.max_depth = 20.0;
   RunOptions options;
   options.output_dir = dir / "out";
   options.progress = false;
-  const auto result = run_vo(*dataset, config, feature_oracle, stereo_oracle, options);
+  const auto result = run_vo(*dataset, points_only_config(), feature_oracle, stereo_oracle, options);
 
   EXPECT_EQ(result.frames, static_cast<std::size_t>(kFrames - 1));
   EXPECT_EQ(result.frames_skipped, 1u);
@@ -61,13 +82,7 @@ TEST(Pipeline, RunsTheThreadedVoAndWritesEveryOutput) {
   EXPECT_EQ(result.frames_tracked, result.frames);
   EXPECT_TRUE(result.untracked_frames.empty());
   EXPECT_GE(result.keyframes, 2);
-  const auto trajectory = io::read_tum(result.trajectory);
-  ASSERT_EQ(trajectory.size(), static_cast<std::size_t>(kFrames - 1));
-  for (const auto& pose : trajectory) {  // world = first camera; KITTI rectified: no rectifying rotation
-    const int f = static_cast<int>(std::lround(pose.t / 0.05));
-    const Eigen::Isometry3d truth = scene.T_world_left[0].inverse() * scene.T_world_left[f];
-    EXPECT_LT((pose.pose.translation() - truth.translation()).norm(), 2e-3) << "frame " << f;
-  }
+  expect_trajectory_near_truth(result.trajectory, scene, kFrames - 1, 2e-3);
   EXPECT_EQ(io::read_tum(result.keyframes_file).size(), static_cast<std::size_t>(result.keyframes));
   EXPECT_TRUE(fs::exists(options.output_dir / "map.ply"));
   std::ifstream summary_file(result.summary);
@@ -76,6 +91,35 @@ TEST(Pipeline, RunsTheThreadedVoAndWritesEveryOutput) {
   EXPECT_EQ(summary["keyframes"], result.keyframes);
   for (const char* module : {"PE", "PM", "IPE", "BA"})
     EXPECT_GT(summary["timing"]["modules"][module]["samples"].get<int>(), 0) << module;
+}
+
+// Black frames in the middle: they are untracked, their trajectory lines wait until tracking resumes and are then
+// written interpolated between the tracked poses around the gap, in time order, next to the truth.
+TEST(Pipeline, BlackFramesAreBridgedOnceTrackingResumes) {
+  constexpr int kFrames = 30;
+  const auto scene = test::SyntheticScene::make(kFrames, 600, 23);
+  test::OracleFrontend feature_oracle(scene, 0.0, 1), stereo_oracle(scene, 0.0, 2);
+  const auto dir = test::temp_dir("pipeline_black");
+  write_kitti_folder(scene, feature_oracle, kFrames, dir / "seq");
+  const cv::Mat black(feature_oracle.image(0, false).size(), CV_8UC1, cv::Scalar(0));
+  for (int f = 14; f <= 16; ++f)
+    for (const char* side : {"image_0", "image_1"})
+      cv::imwrite((dir / "seq" / side / fmt::format("{:06d}.png", f)).string(), black);
+
+  const auto dataset = io::open_dataset(dir / "seq");
+  RunOptions options;
+  options.output_dir = dir / "out";
+  options.progress = false;
+  const auto result = run_vo(*dataset, points_only_config(), feature_oracle, stereo_oracle, options);
+
+  EXPECT_EQ(result.frames, static_cast<std::size_t>(kFrames));
+  EXPECT_EQ(result.untracked_frames, (std::vector<std::size_t>{14, 15, 16}));
+  EXPECT_EQ(result.frames_bridged, 3);
+  EXPECT_TRUE(result.last_frame_tracked);
+  // Interpolating over 4 frames of this smooth path: within 1 cm (the tracked frames: 2 mm).
+  expect_trajectory_near_truth(result.trajectory, scene, kFrames, 1e-2);
+  std::ifstream summary_file(result.summary);
+  EXPECT_EQ(nlohmann::json::parse(summary_file)["frames_bridged"], 3);
 }
 
 }  // namespace

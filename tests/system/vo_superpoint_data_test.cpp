@@ -88,6 +88,8 @@ void expect_recovered(const test::VoRun& run, std::size_t frames, const Photomet
     EXPECT_TRUE(static_cast<int>(frame) >= stress.black.first && static_cast<int>(frame) <= stress.black.last)
         << "frame " << frame << " untracked outside the black stretch";
   EXPECT_TRUE(run.result.last_frame_tracked);
+  // Tracking resumed after the black stretch, so its poses were written interpolated across it.
+  EXPECT_EQ(run.result.frames_bridged, stress.black.last - stress.black.first + 1);
 }
 
 // ATE of the stressed run, all frames and the tracked ones, next to the clean run's, in the test log.
@@ -127,15 +129,15 @@ TEST(VoSuperPointData, EurocMh01FirstFramesCleanAndUnderPhotometricStress) {
   const auto config = load_vo_config(test::source_dir() / "config" / "euroc.yaml");
   const PhotometricStress stress{.dim = {6, 11}, .black = {16, 18}, .gamma = {24, 29}};
   const auto [clean, stressed] = run_clean_and_stressed(dataset, onnx, config, 40, stress);
-  // Measured (ctest, validation on, 2 cores): 256-286 s for both runs (115-142 s each). Clean: ATE
+  // Measured (ctest, validation on, 2 cores): 256-397 s for both runs (115-200 s each). Clean: ATE
   // 4.7 mm (max 8.2 mm), 3 keyframes, no loss; bound: the 3 cm. Stressed: the three black frames are the
-  // only untracked ones (frame 19 relocalises in the same map segment); ATE 7.2 mm (1.53x clean) over all frames,
-  // 3.1 mm over the tracked ones. The black frames' predicted poses carry the excess (max 34 mm): this is the
-  // jerky pre-takeoff motion, which no constant-velocity prior follows for 150 ms. The 1.5x is asserted
-  // on the tracked frames (measured 0.66x); the whole trajectory, black frames included, gets 2x (1.53x).
+  // only untracked ones (frame 19 relocalises in the same map segment); ATE 3.1 mm over all frames (0.66x clean)
+  // and over the tracked ones. The black frames' poses are interpolated between frames 15 and 19 once tracking
+  // resumes (GapBridge): their constant-velocity predictions were off by up to 34 mm in this jerky pre-takeoff
+  // motion and made the whole trajectory 7.2 mm (1.53x). Bound: the 1.5x, on both.
   EXPECT_LT(ate_rmse(clean.evaluation), 0.03);
   EXPECT_LE(ate_rmse(test::evaluate_tracked_frames(stressed)), 1.5 * ate_rmse(clean.evaluation));
-  EXPECT_LE(ate_rmse(stressed.evaluation), 2.0 * ate_rmse(clean.evaluation));
+  EXPECT_LE(ate_rmse(stressed.evaluation), 1.5 * ate_rmse(clean.evaluation));
 }
 
 // KITTI 01 (highway, ~1 m per frame), first 20 pairs: gain 25% on frames 3-6, black frames 9-10, gamma flicker on
