@@ -37,12 +37,12 @@ constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGem
 constexpr std::uint32_t kTiledConvChannels = 8, kTiledConvPixels = 4, kTiledConvRows = 3;
 constexpr std::uint32_t kTiledConv1x1Pixels = 8;
 
-// conv3x3_tiled reads activations (one value per texel) and weights (4 output channels per texel) through
-// uniform texel buffers in the storage precision.
+// conv1x1_tiled reads activations one value per texel; conv3x3_tiled reads them 4 values of a row per texel.
+// Both read weights 4 output channels per texel. All in the storage precision.
 vk::Format activation_texel_format(Precision precision) {
   return precision == Precision::fp32 ? vk::Format::eR32Sfloat : vk::Format::eR16Sfloat;
 }
-vk::Format weight_texel_format(Precision precision) {
+vk::Format vec4_texel_format(Precision precision) {
   return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR16G16B16A16Sfloat;
 }
 // gemm_tiled.comp reads fp32 operands 4 per RGBA32F texel and 16-bit ones 8 per RGBA32UI texel.
@@ -54,7 +54,7 @@ vk::Format gemm_texel_format(Precision precision) {
 
 bool tiled_kernels_available(const Context& context, Precision precision) {
   return context.supports_uniform_texel_format(activation_texel_format(precision)) &&
-         context.supports_uniform_texel_format(weight_texel_format(precision)) &&
+         context.supports_uniform_texel_format(vec4_texel_format(precision)) &&
          context.supports_uniform_texel_format(gemm_texel_format(precision));
 }
 
@@ -72,7 +72,7 @@ bool use_tiled_conv(const Context& context, Precision precision, std::uint32_t k
 KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool tiled) {
   if (kernel_size != 1 && kernel_size != 3) throw std::invalid_argument("Conv2d: kernel size must be 1 or 3");
   std::vector<vk::Format> texel_formats;
-  if (tiled) texel_formats = {activation_texel_format(precision), weight_texel_format(precision)};
+  if (tiled) texel_formats = {vec4_texel_format(precision), vec4_texel_format(precision)};
   return {.op = kernel_size == 1 ? "conv1x1" : tiled ? "conv3x3_tiled" : "conv3x3", .precision = precision,
           .bindings = 4,
           .written_bindings = 1u << 3,
@@ -97,7 +97,7 @@ Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel
                                            .push_constant_bytes = sizeof(Conv1x1Push),
                                            .specialization = {kGroupX, kGroupY},
                                            .texel_formats = {activation_texel_format(precision),
-                                                             weight_texel_format(precision)}});
+                                                             vec4_texel_format(precision)}});
 }
 
 bool Conv2d::uses_tiled_kernel(const ActivationShape& in) const {
@@ -115,9 +115,9 @@ void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& i
   if (kernel_size_ == 3) {
     if (in.pad != 1) throw std::invalid_argument("Conv2d 3x3: the input needs a 1-pixel zero border");
     const ConvPush push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
-    if (tiled_ && in.elements() > max_texel_elements_)
-      throw std::invalid_argument(fmt::format("Conv2d: {} input values exceed the device's {} texel-buffer elements",
-                                              in.elements(), max_texel_elements_));
+    if (tiled_ && in.elements() / 4 > max_texel_elements_)
+      throw std::invalid_argument(fmt::format("Conv2d: {} input texels exceed the device's {} texel-buffer elements",
+                                              in.elements() / 4, max_texel_elements_));
     const std::uint32_t column_groups = groups_for(groups_for(in.width, tiled_ ? kTiledConvPixels : 3), kGroupX);
     const Groups groups = tiled_ ? Groups{groups_for(out.channels, kTiledConvChannels), column_groups,
                                           groups_for(groups_for(in.height, kTiledConvRows), kGroupY)}

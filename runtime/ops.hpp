@@ -11,10 +11,16 @@
 
 namespace vkvo::rt {
 
+// A bordered tensor's rows are padded to a multiple of 4 elements (the tiled 3x3 convolution reads 4 pixels per
+// texel from rows that start on a texel); an unbordered tensor is dense CHW.
 struct ActivationShape {
   std::uint32_t channels = 0, height = 0, width = 0, pad = 0;
-  std::size_t elements() const {
-    return std::size_t(channels) * (height + 2 * pad) * (width + 2 * pad);
+  std::size_t row_stride() const { return pad > 0 ? (std::size_t(width) + 2 * pad + 3) / 4 * 4 : width; }
+  std::size_t plane() const { return (std::size_t(height) + 2 * pad) * row_stride(); }
+  std::size_t elements() const { return std::size_t(channels) * plane(); }
+  // Element index of (c, y, x), x and y without the border.
+  std::size_t index(std::uint32_t c, std::uint32_t y, std::uint32_t x) const {
+    return c * plane() + (std::size_t(y) + pad) * row_stride() + x + pad;
   }
 };
 

@@ -30,7 +30,7 @@ void main() {
   const uint ob = gl_GlobalInvocationID.z;  // block of 4 output channels
   if (x0 >= p.width || y >= p.height) return;
 
-  const uint row = p.width + 2u;
+  const uint row = row_stride(p.width, 1u);
   const uint plane = plane_size(p.height, p.width, 1u);
   const uint last_x = p.width + 1u;  // rightmost readable column of a padded row
   vec4 acc0 = bias[ob], acc1 = acc0, acc2 = acc0;

@@ -9,15 +9,23 @@
 // faster there (conv 64->64 @376x240: 173 -> 142 ms). On GPUs a fetch at a workgroup-uniform index is served
 // once from the cache.
 //
-// The input and the weights are read through uniform texel buffers (R32F/R16F and RGBA32F/RGBA16F views
-// chosen by the host for the storage precision): lavapipe fetches texels with vector gathers, where it loads
-// storage buffers one lane at a time behind a branch, which made the loads, not the FMAs, the bottleneck.
+// The input and the weights are read through uniform texel buffers (RGBA32F/RGBA16F views chosen by the host
+// for the storage precision): lavapipe fetches texels with vector gathers, where it loads storage buffers one
+// lane at a time behind a branch, which made the loads, not the FMAs, the bottleneck. A texel fetch costs
+// lavapipe the same call whatever the format, so the input is read 4 pixels per texel: bordered rows are padded
+// to whole texels (tensor.glsl) and an invocation's 6-column window row is 2 fetches, not 6.
 //
-// Three rows per invocation and every loop unrolled ([[unroll]]; the accumulators must be registers, not an
-// indexed array): measured on lavapipe (Mesa 22.3, 2 Zen 4 cores) 10-17 % faster than two rows. Without the
-// unrolling, three rows ran 10x slower; four rows spill the 128 accumulators and lose. A Winograd F(2x2,3x3)
-// variant (2.25x fewer multiply-adds) measured 1.1-2.4x slower there: its 16 transformed weights per filter
-// cost more fetches per output and its transformed-domain accumulators spill.
+// Per input channel, all fetches come first and then the arithmetic, one output at a time with its 9 taps summed
+// before the accumulator is touched. On lavapipe every texel fetch is a call that clobbers the vector registers,
+// so the 96 accumulators live on the stack whatever the code does; updated tap by tap, each was loaded and stored
+// 9 times per input channel and the stores bound the kernel (perf on the JIT code: 3 stack moves per multiply).
+// Summing the taps first: conv 64->64 @376x240 1.6-1.8x faster in fp32 and 1.5x in fp16s (Mesa 22.3, 2 Zen 3
+// cores, alternating runs); the 4-pixel input texels above added 0-10 %.
+//
+// Three rows per invocation and every loop unrolled ([[unroll]]; an indexed accumulator array becomes memory
+// with masked stores): three rows measured 10-17 % faster than two; four rows measure the same as three since
+// the change above. A Winograd F(2x2,3x3) variant (2.25x fewer multiply-adds) measured 1.1-2.4x slower: its 16
+// transformed weights per filter cost more fetches per output and its transformed-domain accumulators spill.
 //
 // Out-of-range pixels read clamped addresses and skip the store.
 #extension GL_EXT_control_flow_attributes : require
@@ -26,7 +34,7 @@
 
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z = 1) in;
 
-layout(binding = 0) uniform samplerBuffer src;      // activations, one channel value per texel
+layout(binding = 0) uniform samplerBuffer src;      // activations, 4 consecutive values of a row per texel
 layout(binding = 1) uniform samplerBuffer weights;  // one vec4 (4 output channels) per texel
 layout(std430, binding = 2) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 3) writeonly buffer Output { sfloat dst[]; };
@@ -53,18 +61,6 @@ const uint kAcc = 2 * kRows * kPixels;
 // Accumulator of block b, output row r, pixel i.
 #define ACC(b, r, i) (((b) * kRows + (r)) * kPixels + (i))
 
-// PART[b][r][i] += weight(b, ky * 3 + kx) * input(r + ky, i + kx) for both blocks, every row and pixel.
-#define TAP(ky, kx)                                                  \
-  {                                                                  \
-    const avec4 w0 = WEIGHT((ky) * 3 + (kx)), w1 = WEIGHT(9 + (ky) * 3 + (kx)); \
-    [[unroll]] for (uint r = 0; r < kRows; ++r)                                 \
-      [[unroll]] for (uint i = 0; i < kPixels; ++i) {                           \
-        const afloat v = window[r + (ky)][i + (kx)];                 \
-        PART[ACC(0, r, i)] += w0 * v;                                \
-        PART[ACC(1, r, i)] += w1 * v;                                \
-      }                                                              \
-  }
-
 void main() {
   // Grid: (output-channel groups, column tiles, row tiles). The channel group varies fastest so that the
   // workgroups that read one input tile run back to back and find it in cache.
@@ -73,13 +69,15 @@ void main() {
   const uint y0 = (gl_WorkGroupID.z * gl_WorkGroupSize.y + gl_LocalInvocationID.y) * kRows;
   const uint blocks4 = (p.out_channels + 3u) / 4u;
 
-  const uint row_len = p.width + 2u;
-  const uint plane = plane_size(p.height, p.width, 1u);
-  // Padded columns x0 .. x0 + 5 hold input columns x0 - 1 .. x0 + 4, padded rows y0 .. y0 + kRows + 1 hold
-  // input rows y0 - 1 .. y0 + kRows; past the end they are clamped (those outputs are not stored).
-  uint col[kPixels + 2], row[kRows + 2];
-  [[unroll]] for (uint i = 0; i < kPixels + 2; ++i) col[i] = min(x0 + i, p.width + 1u);
-  [[unroll]] for (uint r = 0; r < kRows + 2; ++r) row[r] = min(y0 + r, p.height + 1u) * row_len;
+  // In texels of 4 values: rows and planes of the bordered input are whole texels.
+  const uint row_texels = row_stride(p.width, 1u) / 4u;
+  const uint plane = plane_size(p.height, p.width, 1u) / 4u;
+  // Padded columns x0 .. x0 + 5 hold input columns x0 - 1 .. x0 + 4: texel x0 / 4 and the first half of the next
+  // one. Padded rows y0 .. y0 + kRows + 1 hold input rows y0 - 1 .. y0 + kRows. Past the end both are clamped
+  // (those outputs are not stored).
+  const uint col[2] = {min(x0 / 4u, row_texels - 1u), min(x0 / 4u + 1u, row_texels - 1u)};
+  uint row[kRows + 2];
+  [[unroll]] for (uint r = 0; r < kRows + 2; ++r) row[r] = min(y0 + r, p.height + 1u) * row_texels;
 
   // Texel of block b's weights for input channel 0, tap 0 (blocks past the end are clamped, not stored).
   uint weight_row[2];
@@ -94,21 +92,25 @@ void main() {
   for (uint ic = 0, base = 0; ic < p.in_channels; ++ic, base += plane) {
     const uint weight_channel[2] = {weight_row[0] + ic * 9u, weight_row[1] + ic * 9u};
     afloat window[kRows + 2][kPixels + 2];
-    [[unroll]] for (uint r = 0; r < kRows + 2; ++r)
-      [[unroll]] for (uint i = 0; i < kPixels + 2; ++i) window[r][i] = afloat(texelFetch(src, int(base + row[r] + col[i])).x);
-#ifdef VKVO_FP16_MATH
-    avec4 part[kAcc];  // fp16 products of one input channel, added to the fp32 accumulators below
-    [[unroll]] for (uint k = 0; k < kAcc; ++k) part[k] = avec4(0);
-#define PART part
-#else
-#define PART acc
-#endif
-    TAP(0, 0) TAP(0, 1) TAP(0, 2)
-    TAP(1, 0) TAP(1, 1) TAP(1, 2)
-    TAP(2, 0) TAP(2, 1) TAP(2, 2)
-#ifdef VKVO_FP16_MATH
-    [[unroll]] for (uint k = 0; k < kAcc; ++k) acc[k] += vec4(part[k]);
-#endif
+    [[unroll]] for (uint r = 0; r < kRows + 2; ++r) {
+      const avec4 head = avec4(texelFetch(src, int(base + row[r] + col[0])));
+      const avec4 tail = avec4(texelFetch(src, int(base + row[r] + col[1])));
+      window[r] = afloat[kPixels + 2](head.x, head.y, head.z, head.w, tail.x, tail.y);
+    }
+    avec4 w[2][9];
+    [[unroll]] for (uint b = 0; b < 2u; ++b)
+      [[unroll]] for (uint t = 0; t < 9u; ++t) w[b][t] = WEIGHT(b * 9u + t);
+    // One output at a time, its 9 taps summed before the accumulator is touched: lavapipe keeps the 96
+    // accumulators on the stack (every texel fetch is a call that clobbers the vector registers), and updating
+    // them tap by tap stored each of them 9 times per input channel. In the fp16 variant the 9-tap sum is fp16,
+    // the accumulator fp32.
+    [[unroll]] for (uint b = 0; b < 2u; ++b)
+      [[unroll]] for (uint r = 0; r < kRows; ++r)
+        [[unroll]] for (uint i = 0; i < kPixels; ++i) {
+          avec4 sum = w[b][0] * window[r][i];
+          [[unroll]] for (uint t = 1; t < 9u; ++t) sum += w[b][t] * window[r + t / 3u][i + t % 3u];
+          acc[ACC(b, r, i)] += vec4(sum);
+        }
   }
 
   const uint out_plane = plane_size(p.height, p.width, p.out_pad);

@@ -25,7 +25,7 @@ void main() {
   const uint y = i / out_w;
   const uint x = i % out_w;
   const uint r = chw_index(c, 2u * y, 2u * x, p.in_height, p.in_width, p.in_pad);
-  const uint row = p.in_width + 2u * p.in_pad;
+  const uint row = row_stride(p.in_width, p.in_pad);
   const float m = max(max(float(src[r]), float(src[r + 1u])), max(float(src[r + row]), float(src[r + row + 1u])));
   dst[chw_index(c, y, x, out_h, out_w, p.out_pad)] = sfloat(m);
 }

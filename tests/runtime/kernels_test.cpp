@@ -36,19 +36,21 @@ std::vector<float> reference_conv(const std::vector<float>& in, const std::vecto
   return out;
 }
 
-// CHW -> CHW with a zero border of `pad`, and back.
+// CHW -> the bordered layout of ActivationShape (zero border of `pad`, rows padded to whole texels), and back.
 std::vector<float> add_border(const std::vector<float>& t, int c, int h, int w, int pad) {
-  std::vector<float> out(std::size_t(c) * (h + 2 * pad) * (w + 2 * pad), 0.0f);
+  const ActivationShape shape{std::uint32_t(c), std::uint32_t(h), std::uint32_t(w), std::uint32_t(pad)};
+  std::vector<float> out(shape.elements(), 0.0f);
   for (int i = 0; i < c; ++i)
     for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) out[(i * (h + 2 * pad) + y + pad) * (w + 2 * pad) + x + pad] = t[(i * h + y) * w + x];
+      for (int x = 0; x < w; ++x) out[shape.index(i, y, x)] = t[(i * h + y) * w + x];
   return out;
 }
 std::vector<float> strip_border(const std::vector<float>& t, int c, int h, int w, int pad) {
+  const ActivationShape shape{std::uint32_t(c), std::uint32_t(h), std::uint32_t(w), std::uint32_t(pad)};
   std::vector<float> out(std::size_t(c) * h * w);
   for (int i = 0; i < c; ++i)
     for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) out[(i * h + y) * w + x] = t[(i * (h + 2 * pad) + y + pad) * (w + 2 * pad) + x + pad];
+      for (int x = 0; x < w; ++x) out[(i * h + y) * w + x] = t[shape.index(i, y, x)];
   return out;
 }
 

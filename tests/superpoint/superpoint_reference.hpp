@@ -135,6 +135,31 @@ struct Keypoints {
   std::vector<std::vector<float>> descriptors;
 };
 
+// SuperPoint's descriptor at pixel (x, y) of an image of cells_h x cells_w cells: grid_sample(align_corners=True)
+// of the dense descriptors (dim x cells_h x cells_w) at the SuperGlue-normalised position, then L2 norm.
+inline std::vector<float> sample_descriptor(const std::vector<float>& dense, int cells_h, int cells_w, float x, float y,
+                                            int dim = 256) {
+  const int h = cells_h * 8, w = cells_w * 8;
+  const double gx = (x - 4.0 + 0.5) / (w - 4.0 - 0.5) * 2 - 1, gy = (y - 4.0 + 0.5) / (h - 4.0 - 0.5) * 2 - 1;
+  const double px = (gx + 1) / 2 * (cells_w - 1), py = (gy + 1) / 2 * (cells_h - 1);
+  const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
+  const double tx = px - x0, ty = py - y0;
+  std::vector<float> v(dim);
+  double sq = 0;
+  for (int c = 0; c < dim; ++c) {
+    const auto tap = [&](int yy, int xx) -> double {
+      if (xx < 0 || yy < 0 || xx >= cells_w || yy >= cells_h) return 0.0;
+      return dense[(std::size_t(c) * cells_h + yy) * cells_w + xx];
+    };
+    const double s = (tap(y0, x0) * (1 - tx) + tap(y0, x0 + 1) * tx) * (1 - ty) +
+                     (tap(y0 + 1, x0) * (1 - tx) + tap(y0 + 1, x0 + 1) * tx) * ty;
+    v[c] = float(s);
+    sq += s * s;
+  }
+  for (auto& e : v) e = float(e / std::max(std::sqrt(sq), 1e-12));
+  return v;
+}
+
 // Threshold, border removal, top-k (ties: lower pixel index first), bilinear descriptor sampling + L2 norm.
 inline Keypoints postprocess(const Dense& d, float threshold, int radius, int border, int max_keypoints, int dim = 256) {
   const int h = d.cells_h * 8, w = d.cells_w * 8;
@@ -152,25 +177,7 @@ inline Keypoints postprocess(const Dense& d, float threshold, int radius, int bo
     const float x = float(i % w), y = float(i / w);
     k.xy.emplace_back(x, y);
     k.scores.push_back(d.scores[i]);
-    // grid_sample(align_corners=True) at the SuperGlue-normalised position
-    const double gx = (x - 4.0 + 0.5) / (w - 4.0 - 0.5) * 2 - 1, gy = (y - 4.0 + 0.5) / (h - 4.0 - 0.5) * 2 - 1;
-    const double px = (gx + 1) / 2 * (d.cells_w - 1), py = (gy + 1) / 2 * (d.cells_h - 1);
-    const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
-    const double tx = px - x0, ty = py - y0;
-    std::vector<float> v(dim);
-    double sq = 0;
-    for (int c = 0; c < dim; ++c) {
-      const auto tap = [&](int yy, int xx) -> double {
-        if (xx < 0 || yy < 0 || xx >= d.cells_w || yy >= d.cells_h) return 0.0;
-        return d.descriptors[(std::size_t(c) * d.cells_h + yy) * d.cells_w + xx];
-      };
-      const double s = (tap(y0, x0) * (1 - tx) + tap(y0, x0 + 1) * tx) * (1 - ty) +
-                       (tap(y0 + 1, x0) * (1 - tx) + tap(y0 + 1, x0 + 1) * tx) * ty;
-      v[c] = float(s);
-      sq += s * s;
-    }
-    for (auto& e : v) e = float(e / std::max(std::sqrt(sq), 1e-12));
-    k.descriptors.push_back(std::move(v));
+    k.descriptors.push_back(sample_descriptor(d.descriptors, d.cells_h, d.cells_w, x, y, dim));
   }
   return k;
 }
