@@ -238,7 +238,8 @@ bool DeviceCaps::supports(Precision p) const {
 }
 
 Precision DeviceCaps::preferred_precision() const {
-  if (type != "cpu" && supports(Precision::fp16)) return Precision::fp16;
+  if (type == "cpu") return Precision::fp32;
+  if (supports(Precision::fp16)) return Precision::fp16;
   if (supports(Precision::fp16s)) return Precision::fp16s;
   return Precision::fp32;
 }
