@@ -13,6 +13,7 @@
 #include "runtime/half.hpp"
 #include "runtime/kernel.hpp"
 #include "runtime/ops.hpp"
+#include "runtime/tensor_layout.hpp"
 
 namespace vkvo::features {
 namespace {
@@ -126,6 +127,8 @@ struct SuperGlue::Impl {
   rt::Gemm gemm;
   rt::Kernel keypoints_kernel, softmax_kernel, scores_kernel, sinkhorn_kernel, assignment_kernel, argmax_kernel,
       mutual_kernel;
+  // Sinkhorn through RGBA32F texel buffers, where the device reads them (see texel_sinkhorn_fits()).
+  std::optional<rt::Kernel> couplings_pad_kernel, sinkhorn_tiled_kernel;
 
   // Per-size state: buffers and the recorded sequence, reused while (n0, n1) stays the same.
   std::size_t n0 = 0, n1 = 0;
@@ -134,8 +137,8 @@ struct SuperGlue::Impl {
   std::vector<std::unique_ptr<rt::Buffer>> buffers;
   rt::Buffer *kpts = nullptr, *kscores = nullptr, *enc_in = nullptr, *enc_a = nullptr, *enc_b = nullptr,
              *state = nullptr, *qkv = nullptr, *hidden = nullptr, *attn0 = nullptr, *attn1 = nullptr, *z = nullptr,
-             *u = nullptr, *v = nullptr, *best = nullptr, *best_value = nullptr, *matches = nullptr,
-             *match_scores = nullptr;
+             *z_rows = nullptr, *z_cols = nullptr, *u = nullptr, *v = nullptr, *best = nullptr, *best_value = nullptr,
+             *matches = nullptr, *match_scores = nullptr;
   std::vector<rt::CommandTiming> timings;
 
   Impl(const rt::Context& ctx, const io::ModelPack& pack, const SuperGlueParams& p)
@@ -162,7 +165,26 @@ struct SuperGlue::Impl {
       throw std::runtime_error(fmt::format("SuperGlue: device '{}' does not support precision {}", ctx.caps().name,
                                            rt::to_string(precision)));
     iterations = params.sinkhorn_iterations > 0 ? params.sinkhorn_iterations : config.sinkhorn_iterations;
+    if (params.texel_sinkhorn && ctx.supports_uniform_texel_format(vk::Format::eR32G32B32A32Sfloat)) {
+      couplings_pad_kernel.emplace(ctx, rt::KernelSpec{.op = "superglue_couplings_pad", .precision = precision,
+                                                       .bindings = 3, .written_bindings = 0b110u,
+                                                       .push_constant_bytes = 16, .specialization = {}});
+      sinkhorn_tiled_kernel.emplace(
+          ctx, rt::KernelSpec{.op = "superglue_sinkhorn_tiled", .precision = precision, .bindings = 3,
+                              .written_bindings = 0b100u, .push_constant_bytes = 16, .specialization = {},
+                              .texel_formats = {vk::Format::eR32G32B32A32Sfloat, vk::Format::eR32G32B32A32Sfloat}});
+    }
     prepare_weights(pack);
+  }
+
+  // Z's rows and columns padded to whole texels of 4 entries, for the texel-buffer Sinkhorn.
+  std::size_t rows_padded() const { return rt::round_up(n0 + 1, 4); }
+  std::size_t cols_padded() const { return rt::round_up(n1 + 1, 4); }
+  // Whether the texel-buffer Sinkhorn runs at the current size: the device reads RGBA32F texel buffers and both
+  // padded copies of Z fit its texel-buffer limit (Vulkan guarantees only 65536 texels).
+  bool texel_sinkhorn_fits() const {
+    const std::size_t limit = context.caps().max_texel_buffer_elements;
+    return sinkhorn_tiled_kernel && (n0 + 1) * cols_padded() / 4 <= limit && (n1 + 1) * rows_padded() / 4 <= limit;
   }
 
   // Reads the pack's fp32 weights, regroups and folds them (see the header), and uploads them at the storage
@@ -255,6 +277,7 @@ struct SuperGlue::Impl {
 
   void allocate() {
     buffers.clear();
+    z_rows = z_cols = nullptr;
     const std::size_t rows = n0 + n1, dim = std::size_t(config.descriptor_dim), sb = rt::storage_bytes(precision);
     std::size_t widest = 4;
     for (const Layer& l : encoder) widest = std::max<std::size_t>(widest, l.out);
@@ -274,8 +297,13 @@ struct SuperGlue::Impl {
     attn0 = make_buffer(std::size_t(config.heads) * n0 * padded_keys(widest_set) * sb, "superglue.attention0");
     attn1 = make_buffer(std::size_t(config.heads) * n1 * padded_keys(widest_set) * sb, "superglue.attention1");
     z = make_buffer((n0 + 1) * (n1 + 1) * 4, "superglue.couplings");
-    u = make_buffer((n0 + 1) * 4, "superglue.u");
-    v = make_buffer((n1 + 1) * 4, "superglue.v");
+    // Potentials padded to whole texels (zeros) for the texel-buffer Sinkhorn, which also gets Z's padded copies.
+    u = make_buffer(rows_padded() * 4, "superglue.u");
+    v = make_buffer(cols_padded() * 4, "superglue.v");
+    if (texel_sinkhorn_fits()) {
+      z_rows = make_buffer((n0 + 1) * cols_padded() * 4, "superglue.couplings_by_row");
+      z_cols = make_buffer((n1 + 1) * rows_padded() * 4, "superglue.couplings_by_column");
+    }
     best = make_buffer(rows * 4, "superglue.best");
     best_value = make_buffer(rows * 4, "superglue.best_value");
     matches = make_buffer(n0 * 4, "superglue.matches0");
@@ -361,13 +389,17 @@ struct SuperGlue::Impl {
     seq->fill_zero(*u, "sinkhorn init");
     seq->fill_zero(*v, "sinkhorn init");
     const float norm = -std::log(float(n0 + n1));
-    struct SinkhornPush { std::uint32_t rows, cols, axis; float norm; };
-    for (int it = 0; it < iterations; ++it)
-      for (std::uint32_t axis = 0; axis < 2; ++axis) {
-        const SinkhornPush push{std::uint32_t(n0 + 1), std::uint32_t(n1 + 1), axis, norm};
-        seq->dispatch(sinkhorn_kernel, {rt::Binding(*z), rt::Binding(*u), rt::Binding(*v)}, push,
-                      {rt::groups_for(axis == 0 ? n0 + 1 : n1 + 1, 64)}, "sinkhorn");
-      }
+    if (texel_sinkhorn_fits()) {
+      record_texel_sinkhorn(norm);
+    } else {
+      struct SinkhornPush { std::uint32_t rows, cols, axis; float norm; };
+      for (int it = 0; it < iterations; ++it)
+        for (std::uint32_t axis = 0; axis < 2; ++axis) {
+          const SinkhornPush push{std::uint32_t(n0 + 1), std::uint32_t(n1 + 1), axis, norm};
+          seq->dispatch(sinkhorn_kernel, {rt::Binding(*z), rt::Binding(*u), rt::Binding(*v)}, push,
+                        {rt::groups_for(axis == 0 ? n0 + 1 : n1 + 1, 64)}, "sinkhorn");
+        }
+    }
     struct AssignPush { std::uint32_t rows, cols; float norm; } ap{std::uint32_t(n0 + 1), std::uint32_t(n1 + 1), norm};
     const std::size_t cells = (n0 + 1) * (n1 + 1);
     const std::uint32_t groups = rt::groups_for(cells, 64);
@@ -384,6 +416,23 @@ struct SuperGlue::Impl {
                   mp, {rt::groups_for(n0, 64)}, "mutual");
     seq->end();
     recorded = true;
+  }
+
+  // Z's padded row and column copies, then each half-iteration walks the lines of one of them.
+  void record_texel_sinkhorn(float norm) {
+    const auto rows = std::uint32_t(n0 + 1), cols = std::uint32_t(n1 + 1);
+    const auto rows_p = std::uint32_t(rows_padded()), cols_p = std::uint32_t(cols_padded());
+    struct PadPush { std::uint32_t rows, cols, rows_padded, cols_padded; } pad{rows, cols, rows_p, cols_p};
+    seq->dispatch(*couplings_pad_kernel, {rt::Binding(*z), rt::Binding(*z_rows), rt::Binding(*z_cols)}, pad,
+                  {rt::groups_for(cols_p, 16), rt::groups_for(rows_p, 4)}, "sinkhorn init");
+    struct HalfPush { std::uint32_t lines, line_length, texels; float norm; };
+    const HalfPush by_row{rows, cols, cols_p / 4, norm}, by_column{cols, rows, rows_p / 4, norm};
+    for (int it = 0; it < iterations; ++it) {
+      seq->dispatch(*sinkhorn_tiled_kernel, {rt::Binding(*z_rows), rt::Binding(*v), rt::Binding(*u)}, by_row,
+                    {rt::groups_for(rows, 64)}, "sinkhorn");
+      seq->dispatch(*sinkhorn_tiled_kernel, {rt::Binding(*z_cols), rt::Binding(*u), rt::Binding(*v)}, by_column,
+                    {rt::groups_for(cols, 64)}, "sinkhorn");
+    }
   }
 
   struct ImagePush {
