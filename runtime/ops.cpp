@@ -37,14 +37,6 @@ constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGem
 constexpr std::uint32_t kTiledConvChannels = 8, kTiledConvPixels = 4, kTiledConvRows = 3;
 constexpr std::uint32_t kTiledConv1x1Pixels = 8;
 
-// conv1x1_tiled reads activations one value per texel; conv3x3_tiled reads them 4 values of a row per texel.
-// Both read weights 4 output channels per texel. All in the storage precision.
-vk::Format activation_texel_format(Precision precision) {
-  return precision == Precision::fp32 ? vk::Format::eR32Sfloat : vk::Format::eR16Sfloat;
-}
-vk::Format vec4_texel_format(Precision precision) {
-  return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR16G16B16A16Sfloat;
-}
 // gemm_tiled.comp reads fp32 operands 4 per RGBA32F texel and 16-bit ones 8 per RGBA32UI texel.
 vk::Format gemm_texel_format(Precision precision) {
   return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR32G32B32A32Uint;
@@ -81,6 +73,13 @@ KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool tiled)
 }
 
 }  // namespace
+
+vk::Format activation_texel_format(Precision precision) {
+  return precision == Precision::fp32 ? vk::Format::eR32Sfloat : vk::Format::eR16Sfloat;
+}
+vk::Format vec4_texel_format(Precision precision) {
+  return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR16G16B16A16Sfloat;
+}
 
 std::size_t activation_bytes(const ActivationShape& shape, Precision precision) {
   return shape.elements() * storage_bytes(precision);

@@ -24,6 +24,11 @@ struct ActivationShape {
   }
 };
 
+// Texel formats of the tiled kernels at a storage precision: one activation value per texel (conv1x1_tiled,
+// superpoint_detector_head_tiled), and 4 values per texel (weights; conv3x3_tiled's input rows).
+vk::Format activation_texel_format(Precision precision);
+vk::Format vec4_texel_format(Precision precision);
+
 // Bytes of a buffer holding `shape` at `precision`.
 std::size_t activation_bytes(const ActivationShape& shape, Precision precision);
 

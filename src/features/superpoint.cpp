@@ -42,7 +42,7 @@ SuperPoint::SuperPoint(const rt::Context& context, const io::ModelPack& pack, co
     throw std::invalid_argument("SuperPoint: keypoint_threshold and nms_radius must be >= 0");
   if (pack.has("detector_channels") && pack.integer("detector_channels") != 65)
     throw std::runtime_error(fmt::format("model pack '{}': detector_channels must be 65", pack.source()));
-  network_ = std::make_unique<SuperPointNetwork>(context, pack, precision_);
+  network_ = std::make_unique<SuperPointNetwork>(context, pack, precision_, params.tiled_kernels);
   descriptor_dim_ = static_cast<int>(network_->convs[convDb].out_channels);
 }
 

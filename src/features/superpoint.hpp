@@ -27,6 +27,9 @@ struct SuperPointParams {
   int remove_borders = 4;             // pixels dropped at every side of the dense score map
   int max_keypoints = 400;            // top-k by score; <= 0 keeps every keypoint
   std::optional<rt::Precision> precision;  // nullopt: the device's preferred precision
+  // The texel-buffer ("tiled") kernels where the device reads their formats; false runs the storage-buffer
+  // kernels every device has (the fallback; tests run the network both ways).
+  bool tiled_kernels = true;
 };
 
 // YAML section `point_detector`: keypoint_threshold, nms_radius, remove_borders, max_keypoints,

@@ -70,11 +70,11 @@ SuperPointConv find_conv(const io::ModelPack& pack, SuperPointLayer layer, rt::P
 
 }  // namespace
 
-SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack& pack, rt::Precision p)
+SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack& pack, rt::Precision p, bool tiled)
     : precision(p),
       block(ctx, std::max<std::size_t>(pack.data_block().size(), 16), rt::BufferKind::device, "superpoint.weights"),
-      conv3x3(ctx, p, 3),
-      conv1x1(ctx, p, 1),
+      conv3x3(ctx, p, 3, tiled ? rt::Conv3x3Kernel::automatic : rt::Conv3x3Kernel::direct),
+      conv1x1(ctx, p, 1, tiled ? rt::Conv3x3Kernel::automatic : rt::Conv3x3Kernel::direct),
       pool(ctx, p),
       input(ctx, spec("superpoint_input", p, 2, 1u << 1, sizeof(InputPush))),
       detector_head(ctx, spec("superpoint_detector_head", p, 4, 1u << 3, sizeof(HeadPush))),
@@ -83,7 +83,13 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
       rank(ctx, spec("superpoint_rank", p, 3, 1u << 2, sizeof(RankPush))),
       sample(ctx, spec("superpoint_sample", p, 7, (1u << 4) | (1u << 5) | (1u << 6), sizeof(SamplePush))),
       nms_colmax{colmax_kernel(ctx, p, 0), colmax_kernel(ctx, p, 1), colmax_kernel(ctx, p, 2),
-                 colmax_kernel(ctx, p, 3)} {
+                 colmax_kernel(ctx, p, 3)},
+      max_texel_elements(ctx.caps().max_texel_buffer_elements) {
+  if (tiled && rt::tiled_kernels_available(ctx, p)) {
+    rt::KernelSpec head = spec("superpoint_detector_head_tiled", p, 4, 1u << 3, sizeof(HeadPush));
+    head.texel_formats = {rt::activation_texel_format(p), rt::vec4_texel_format(p)};
+    detector_head_tiled.emplace(ctx, std::move(head));
+  }
   for (std::size_t i = 0; i < kSuperPointLayers; ++i)
     convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
   block.upload(pack.data_block().data(), pack.data_block().size());
@@ -187,9 +193,13 @@ void SuperPointPlan::record() {
   // Detector head: convPa + ReLU, then convPb + softmax + depth-to-space in one kernel.
   const auto [pa, pa_shape] = conv(convPa, *x, shape, 0, true);
   const std::uint32_t cells = cells_h_ * cells_w_;
-  seq_.dispatch(net_.detector_head,
-                {*pa, net_.weights(convPb), net_.bias(convPb), dense_scores_},
-                HeadPush{pa_shape.channels, cells_h_, cells_w_}, {rt::groups_for(cells, 64)}, "convPb+softmax");
+  // The tiled head computes 4 cells per invocation and steps 4 input channels at a time.
+  const HeadPush head{pa_shape.channels, cells_h_, cells_w_};
+  const bool tiled_head =
+      net_.detector_head_tiled && pa_shape.channels % 4 == 0 && pa_shape.elements() <= net_.max_texel_elements;
+  seq_.dispatch(tiled_head ? *net_.detector_head_tiled : net_.detector_head,
+                {*pa, net_.weights(convPb), net_.bias(convPb), dense_scores_}, head,
+                {rt::groups_for(cells, tiled_head ? 4 * 64 : 64)}, "convPb+softmax");
   // Descriptor head: convDa + ReLU, convDb, L2 normalisation.
   const auto [da, da_shape] = conv(convDa, *x, shape, 0, true);
   const auto [db, db_shape] = conv(convDb, *da, da_shape, 0, false);

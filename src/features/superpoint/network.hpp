@@ -25,7 +25,8 @@ struct SuperPointConv {
 };
 
 struct SuperPointNetwork {
-  SuperPointNetwork(const rt::Context& context, const io::ModelPack& pack, rt::Precision precision);
+  // `tiled`: use the texel-buffer kernels where the device reads their formats (SuperPointParams::tiled_kernels).
+  SuperPointNetwork(const rt::Context& context, const io::ModelPack& pack, rt::Precision precision, bool tiled);
 
   rt::Binding weights(SuperPointLayer layer) const;
   rt::Binding bias(SuperPointLayer layer) const;
@@ -36,6 +37,8 @@ struct SuperPointNetwork {
   rt::Conv2d conv3x3, conv1x1;
   rt::MaxPool2x2 pool;
   rt::Kernel input, detector_head, l2norm, nms_rowmax, rank, sample;
+  std::optional<rt::Kernel> detector_head_tiled;  // where the device reads the tiled kernels' texel formats
+  std::size_t max_texel_elements;
   std::array<rt::Kernel, 4> nms_colmax;  // stages 0..3 (shaders/superpoint_nms_colmax.comp)
 };
 
