@@ -61,20 +61,36 @@ void expect_trajectory_near_truth(const fs::path& file, const test::SyntheticSce
   }
 }
 
+// A synthetic scene written as a KITTI-layout folder (dir/seq) of placeholder images, the oracle front ends that
+// read them, and the threaded VO run on it with outputs in dir/out.
+struct SyntheticRun {
+  SyntheticRun(int frames, std::uint32_t seed, const std::string& tag)
+      : scene(test::SyntheticScene::make(frames, 600, seed)),
+        feature_oracle(scene, 0.0, 1),
+        stereo_oracle(scene, 0.0, 2),
+        dir(test::temp_dir(tag)) {
+    write_kitti_folder(scene, feature_oracle, frames, dir / "seq");
+  }
+  RunResult run() {
+    const auto dataset = io::open_dataset(dir / "seq");
+    RunOptions options;
+    options.output_dir = dir / "out";
+    options.progress = false;
+    return run_vo(*dataset, points_only_config(), feature_oracle, stereo_oracle, options);
+  }
+
+  test::SyntheticScene scene;
+  test::OracleFrontend feature_oracle, stereo_oracle;
+  fs::path dir;
+};
+
 TEST(Pipeline, RunsTheThreadedVoAndWritesEveryOutput) {
   constexpr int kFrames = 40;
-  const auto scene = test::SyntheticScene::make(kFrames, 600, 21);
-  test::OracleFrontend feature_oracle(scene, 0.0, 1), stereo_oracle(scene, 0.0, 2);
-  const auto dir = test::temp_dir("pipeline");
-  write_kitti_folder(scene, feature_oracle, kFrames, dir / "seq");
+  SyntheticRun synthetic(kFrames, 21, "pipeline");
+  const auto& scene = synthetic.scene;
   // A corrupt image in the middle: the run must go on and say which frame it skipped.
-  { std::ofstream(dir / "seq" / "image_1" / "000020.png") << "not a png"; }
-
-  const auto dataset = io::open_dataset(dir / "seq");
-  RunOptions options;
-  options.output_dir = dir / "out";
-  options.progress = false;
-  const auto result = run_vo(*dataset, points_only_config(), feature_oracle, stereo_oracle, options);
+  { std::ofstream(synthetic.dir / "seq" / "image_1" / "000020.png") << "not a png"; }
+  const auto result = synthetic.run();
 
   EXPECT_EQ(result.frames, static_cast<std::size_t>(kFrames - 1));
   EXPECT_EQ(result.frames_skipped, 1u);
@@ -84,7 +100,7 @@ TEST(Pipeline, RunsTheThreadedVoAndWritesEveryOutput) {
   EXPECT_GE(result.keyframes, 2);
   expect_trajectory_near_truth(result.trajectory, scene, kFrames - 1, 2e-3);
   EXPECT_EQ(io::read_tum(result.keyframes_file).size(), static_cast<std::size_t>(result.keyframes));
-  EXPECT_TRUE(fs::exists(options.output_dir / "map.ply"));
+  EXPECT_TRUE(fs::exists(synthetic.dir / "out" / "map.ply"));
   std::ifstream summary_file(result.summary);
   const auto summary = nlohmann::json::parse(summary_file);
   EXPECT_EQ(summary["frames"], kFrames - 1);
@@ -97,20 +113,13 @@ TEST(Pipeline, RunsTheThreadedVoAndWritesEveryOutput) {
 // written interpolated between the tracked poses around the gap, in time order, next to the truth.
 TEST(Pipeline, BlackFramesAreBridgedOnceTrackingResumes) {
   constexpr int kFrames = 30;
-  const auto scene = test::SyntheticScene::make(kFrames, 600, 23);
-  test::OracleFrontend feature_oracle(scene, 0.0, 1), stereo_oracle(scene, 0.0, 2);
-  const auto dir = test::temp_dir("pipeline_black");
-  write_kitti_folder(scene, feature_oracle, kFrames, dir / "seq");
-  const cv::Mat black(feature_oracle.image(0, false).size(), CV_8UC1, cv::Scalar(0));
+  SyntheticRun synthetic(kFrames, 23, "pipeline_black");
+  const auto& scene = synthetic.scene;
+  const cv::Mat black(synthetic.feature_oracle.image(0, false).size(), CV_8UC1, cv::Scalar(0));
   for (int f = 14; f <= 16; ++f)
     for (const char* side : {"image_0", "image_1"})
-      cv::imwrite((dir / "seq" / side / fmt::format("{:06d}.png", f)).string(), black);
-
-  const auto dataset = io::open_dataset(dir / "seq");
-  RunOptions options;
-  options.output_dir = dir / "out";
-  options.progress = false;
-  const auto result = run_vo(*dataset, points_only_config(), feature_oracle, stereo_oracle, options);
+      cv::imwrite((synthetic.dir / "seq" / side / fmt::format("{:06d}.png", f)).string(), black);
+  const auto result = synthetic.run();
 
   EXPECT_EQ(result.frames, static_cast<std::size_t>(kFrames));
   EXPECT_EQ(result.untracked_frames, (std::vector<std::size_t>{14, 15, 16}));
