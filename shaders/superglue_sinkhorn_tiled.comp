@@ -12,9 +12,9 @@ layout(binding = 1) uniform samplerBuffer other;      // the other axis' potenti
 layout(std430, binding = 2) writeonly buffer Potential { float potential[]; };
 
 layout(push_constant) uniform Params {
-  uint lines;   // rows of Z (row half) or columns (column half), dustbin included
+  uint lines;        // rows of Z (row half) or columns (column half), dustbin included
   uint line_length;  // entries per line, dustbin included
-  uint texels;  // texels per padded line
+  uint texels;       // texels per padded line
   float norm;
 } p;
 
