@@ -35,6 +35,7 @@ constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGem
 
 // Output channels and pixels per invocation of conv3x3_tiled.comp (and pixels of conv1x1_tiled.comp).
 constexpr std::uint32_t kTiledConvChannels = 8, kTiledConvPixels = 4, kTiledConvRows = 3;
+constexpr std::uint32_t kPooledConvRows = 4;  // ROWS of conv3x3_maxpool_tiled.comp
 constexpr std::uint32_t kTiledConv1x1Pixels = 8;
 
 // gemm_tiled.comp reads fp32 operands 4 per RGBA32F texel and 16-bit ones 8 per RGBA32UI texel.
@@ -61,15 +62,31 @@ bool use_tiled_conv(const Context& context, Precision precision, std::uint32_t k
   return available;
 }
 
-KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool tiled) {
+KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool tiled, bool max_pool = false) {
   if (kernel_size != 1 && kernel_size != 3) throw std::invalid_argument("Conv2d: kernel size must be 1 or 3");
   std::vector<vk::Format> texel_formats;
   if (tiled) texel_formats = {vec4_texel_format(precision), vec4_texel_format(precision)};
-  return {.op = kernel_size == 1 ? "conv1x1" : tiled ? "conv3x3_tiled" : "conv3x3", .precision = precision,
+  const char* op = kernel_size == 1 ? "conv1x1" : !tiled ? "conv3x3" : max_pool ? "conv3x3_maxpool_tiled" : "conv3x3_tiled";
+  return {.op = op, .precision = precision,
           .bindings = 4,
           .written_bindings = 1u << 3,
           .push_constant_bytes = kernel_size == 3 ? std::uint32_t(sizeof(ConvPush)) : std::uint32_t(sizeof(Conv1x1Push)),
           .specialization = {kGroupX, kGroupY}, .texel_formats = std::move(texel_formats)};
+}
+
+// The tiled 3x3 kernels read the input 4 values per texel through one view of at most the device's texel count.
+void check_tiled_conv_input(const ActivationShape& in, std::size_t max_texel_elements) {
+  if (in.pad != 1) throw std::invalid_argument("Conv2d 3x3: the input needs a 1-pixel zero border");
+  if (in.elements() / 4 > max_texel_elements)
+    throw std::invalid_argument(fmt::format("Conv2d: {} input texels exceed the device's {} texel-buffer elements",
+                                            in.elements() / 4, max_texel_elements));
+}
+
+// Grid of the tiled 3x3 kernels: (8-channel groups, 4-pixel column tiles, `rows`-row tiles) over workgroups of
+// kGroupX x kGroupY invocations; the channel group varies fastest (conv3x3_tiled_body.glsl).
+Groups tiled_conv_groups(const ActivationShape& in, std::uint32_t out_channels, std::uint32_t rows) {
+  return {groups_for(out_channels, kTiledConvChannels), groups_for(groups_for(in.width, kTiledConvPixels), kGroupX),
+          groups_for(groups_for(in.height, rows), kGroupY)};
 }
 
 }  // namespace
@@ -112,15 +129,12 @@ void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& i
     throw std::invalid_argument("Conv2d: input and output must have the same spatial size");
   const std::uint32_t blocks = (out.channels + 3) / 4;
   if (kernel_size_ == 3) {
-    if (in.pad != 1) throw std::invalid_argument("Conv2d 3x3: the input needs a 1-pixel zero border");
     const ConvPush push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
-    if (tiled_ && in.elements() / 4 > max_texel_elements_)
-      throw std::invalid_argument(fmt::format("Conv2d: {} input texels exceed the device's {} texel-buffer elements",
-                                              in.elements() / 4, max_texel_elements_));
-    const std::uint32_t column_groups = groups_for(groups_for(in.width, tiled_ ? kTiledConvPixels : 3), kGroupX);
-    const Groups groups = tiled_ ? Groups{groups_for(out.channels, kTiledConvChannels), column_groups,
-                                          groups_for(groups_for(in.height, kTiledConvRows), kGroupY)}
-                                 : Groups{column_groups, groups_for(in.height, kGroupY), blocks};
+    if (tiled_) check_tiled_conv_input(in, max_texel_elements_);
+    else if (in.pad != 1) throw std::invalid_argument("Conv2d 3x3: the input needs a 1-pixel zero border");
+    const Groups groups = tiled_ ? tiled_conv_groups(in, out.channels, kTiledConvRows)
+                                 : Groups{groups_for(groups_for(in.width, 3), kGroupX), groups_for(in.height, kGroupY),
+                                          blocks};
     seq.dispatch(kernel_, {input, weights, bias, output}, push, groups,
                  label.empty() ? fmt::format("conv3x3 {}->{}", in.channels, out.channels) : std::move(label));
   } else {
@@ -136,6 +150,22 @@ void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& i
                  {groups_for(groups_for(in.width, 4), kGroupX), groups_for(in.height, kGroupY), blocks},
                  label.empty() ? fmt::format("conv1x1 {}->{}", in.channels, out.channels) : std::move(label));
   }
+}
+
+Conv3x3MaxPool::Conv3x3MaxPool(const Context& context, Precision precision)
+    : max_texel_elements_(context.caps().max_texel_buffer_elements),
+      kernel_(context, conv_spec(precision, 3, use_tiled_conv(context, precision, 3, Conv3x3Kernel::tiled), true)) {}
+
+void Conv3x3MaxPool::record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
+                            const Binding& bias, const Buffer& output, const ActivationShape& out, bool relu,
+                            std::string label) const {
+  if (out.height != in.height / 2 || out.width != in.width / 2)
+    throw std::invalid_argument(fmt::format("Conv3x3MaxPool: a {}x{} input pools to {}x{}, not {}x{}", in.width,
+                                            in.height, in.width / 2, in.height / 2, out.width, out.height));
+  check_tiled_conv_input(in, max_texel_elements_);
+  const ConvPush push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
+  seq.dispatch(kernel_, {input, weights, bias, output}, push, tiled_conv_groups(in, out.channels, kPooledConvRows),
+               label.empty() ? fmt::format("conv3x3+maxpool {}->{}", in.channels, out.channels) : std::move(label));
 }
 
 MaxPool2x2::MaxPool2x2(const Context& context, Precision precision)

@@ -69,6 +69,22 @@ class Conv2d {
   std::optional<Kernel> tiled_1x1_;
 };
 
+// 3x3 convolution + bias (+ ReLU) followed by a 2x2 max-pool (floor semantics), in one pass
+// (conv3x3_maxpool_tiled.comp): the full-resolution output is never stored. Needs the tiled kernels' texel
+// formats (tiled_kernels_available); elsewhere run Conv2d and MaxPool2x2.
+class Conv3x3MaxPool {
+ public:
+  Conv3x3MaxPool(const Context& context, Precision precision);
+  // `in`: the convolution's input (1-pixel border); `out`: the pooled output, in.height / 2 x in.width / 2.
+  void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
+              const Binding& bias, const Buffer& output, const ActivationShape& out, bool relu,
+              std::string label = {}) const;
+
+ private:
+  std::size_t max_texel_elements_;
+  Kernel kernel_;
+};
+
 // 2x2 max-pool, stride 2, floor semantics.
 class MaxPool2x2 {
  public:

@@ -93,6 +93,28 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     }
   }
 
+  // SuperPoint's conv1b + pool1 in one pass, where the device has the tiled kernels: compare with the
+  // "conv3x3 64->64 @752x480 tiled" and "maxpool2x2" rows it replaces.
+  if (const std::string kernel_name = "conv3x3+maxpool 64->64 @752x480 tiled";
+      rt::tiled_kernels_available(ctx, precision) && wanted(kernel_name)) {
+    const rt::ActivationShape in{64, 480, 752, 1}, out{64, 240, 376, 1};
+    rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));
+    rt::Buffer out_buf(ctx, rt::activation_bytes(out, precision));
+    rt::Buffer w_buf(ctx, std::size_t(64) * 64 * 9 * rt::storage_bytes(precision));
+    rt::Buffer b_buf(ctx, 64 * sizeof(float));
+    fill_random(in_buf, precision, 1);
+    fill_random(w_buf, precision, 2);
+    b_buf.fill_zero();
+    const rt::Conv3x3MaxPool op(ctx, precision);
+    rt::Sequence seq(ctx);
+    seq.begin();
+    op.record(seq, in_buf, in, w_buf, b_buf, out_buf, out, true);
+    seq.end();
+    const double ms = time_sequence(seq, repeat, timestamps);
+    const double bytes = (double(in.elements()) + double(out.elements())) * elem;
+    results.push_back({kernel_name, name, ms, rt::Conv2d::flops(in, 64, 3) / (ms * 1e6), bytes / (ms * 1e6)});
+  }
+
   if (const std::string kernel_name = "maxpool2x2 64ch @752x480"; wanted(kernel_name)) {  // SuperPoint's first pool
     const rt::ActivationShape in{64, 480, 752, 1};
     rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));

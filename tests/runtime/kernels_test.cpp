@@ -120,6 +120,82 @@ TEST_P(Kernels, Conv3x3TiledKernelMatchesReference) {
   check_conv(precision(), {1, 64, 24, 32, 3, 1, 1, true}, 45, Conv3x3Kernel::tiled);
 }
 
+// PyTorch's max_pool2d(2) on CHW: floor semantics, a last odd row or column is dropped.
+std::vector<float> reference_max_pool(const std::vector<float>& in, int c, int h, int w) {
+  const int oh = h / 2, ow = w / 2;
+  std::vector<float> out(std::size_t(c) * oh * ow);
+  for (int i = 0; i < c; ++i)
+    for (int y = 0; y < oh; ++y)
+      for (int x = 0; x < ow; ++x) {
+        const float* p = &in[(std::size_t(i) * h + 2 * y) * w + 2 * x];
+        out[(std::size_t(i) * oh + y) * ow + x] = std::max(std::max(p[0], p[1]), std::max(p[w], p[w + 1]));
+      }
+  return out;
+}
+
+// The fused conv + max-pool against the reference conv followed by the reference pool. The fused kernel pools
+// fp32 accumulators before rounding to the storage type; rounding is monotonic, so the stored maximum is the
+// maximum of the rounded outputs and the conv's own tolerance applies.
+void check_conv_max_pool(Precision precision, const ConvCase& c, std::uint32_t seed) {
+  auto& ctx = gpu();
+  const auto input = as_stored(random_values(std::size_t(c.in_c) * c.h * c.w, seed), precision);
+  const auto weights = as_stored(random_values(std::size_t(c.out_c) * c.in_c * 9, seed + 1, -0.5f, 0.5f), precision);
+  const auto bias = random_values(c.out_c, seed + 2);
+  const auto conv = reference_conv(input, weights, bias, c.in_c, c.out_c, c.h, c.w, 3, c.relu);
+  const auto expected = reference_max_pool(conv, c.out_c, c.h, c.w);
+
+  const int oh = c.h / 2, ow = c.w / 2;
+  const ActivationShape in{std::uint32_t(c.in_c), std::uint32_t(c.h), std::uint32_t(c.w), 1};
+  const ActivationShape out{std::uint32_t(c.out_c), std::uint32_t(oh), std::uint32_t(ow), std::uint32_t(c.out_pad)};
+  auto in_buf = test::upload_tensor(ctx, add_border(input, c.in_c, c.h, c.w, 1), precision);
+  auto w_buf = test::upload_tensor(ctx, pack_conv_o4(weights, c.out_c, c.in_c, 3, 3), precision);
+  Buffer b_buf(ctx, round_up(c.out_c, 4) * sizeof(float));
+  b_buf.upload(std::span<const float>(pad_bias_o4(bias)));
+  Buffer out_buf(ctx, activation_bytes(out, precision));
+  out_buf.fill_zero();
+
+  const Conv3x3MaxPool op(ctx, precision);
+  Sequence seq(ctx);
+  seq.begin();
+  op.record(seq, in_buf, in, w_buf, b_buf, out_buf, out, c.relu);
+  seq.end();
+  seq.submit();
+  const auto padded = test::download_tensor(out_buf, out.elements(), precision);
+  const auto got = strip_border(padded, c.out_c, oh, ow, c.out_pad);
+  EXPECT_LE(test::max_abs_diff(got, expected), test::tolerance(precision, conv))
+      << "conv3x3+maxpool " << c.in_c << "->" << c.out_c << " at " << c.w << "x" << c.h;
+  if (c.out_pad) {
+    const auto interior = add_border(got, c.out_c, oh, ow, c.out_pad);
+    EXPECT_EQ(test::max_abs_diff(padded, interior), 0.0f) << "output border was written";
+  }
+}
+
+// Odd sizes (the last row and column are dropped), a height that leaves a partial 4-row tile, partial
+// 8-channel groups and 4-blocks, unbordered and bordered pooled outputs.
+TEST_P(Kernels, Conv3x3MaxPoolMatchesConvThenPool) {
+  if (!tiled_kernels_available(gpu(), precision())) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
+  check_conv_max_pool(precision(), {3, 8, 13, 29, 3, 1, 1, true}, 51);
+  check_conv_max_pool(precision(), {16, 6, 10, 7, 3, 1, 0, false}, 52);
+  check_conv_max_pool(precision(), {64, 65, 11, 19, 3, 1, 1, true}, 53);
+  check_conv_max_pool(precision(), {5, 13, 6, 70, 3, 1, 1, false}, 54);
+}
+
+TEST(Conv3x3MaxPool, WrongPooledShapeIsAClearError) {
+  if (!tiled_kernels_available(gpu(), Precision::fp32)) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
+  const Conv3x3MaxPool op(gpu(), Precision::fp32);
+  const ActivationShape in{4, 9, 12, 1}, wrong{4, 5, 6, 1};
+  Buffer input(gpu(), activation_bytes(in, Precision::fp32)), weights(gpu(), 4096), bias(gpu(), 64);
+  Buffer output(gpu(), activation_bytes(wrong, Precision::fp32));
+  Sequence seq(gpu());
+  seq.begin();
+  try {
+    op.record(seq, input, in, Binding(weights), Binding(bias), output, wrong, false);
+    FAIL() << "a 6x5 output for a 12x9 input was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("pools to 6x4"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Conv2d, AutomaticChoiceUsesTheTiledKernelWhereTheDeviceReadsItsTexelFormats) {
   const Conv2d conv(gpu(), Precision::fp32, 3);
   EXPECT_EQ(conv.uses_tiled_kernel(), tiled_kernels_available(gpu(), Precision::fp32));

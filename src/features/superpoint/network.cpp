@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -89,6 +90,7 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
     rt::KernelSpec head = spec("superpoint_detector_head_tiled", p, 4, 1u << 3, sizeof(HeadPush));
     head.texel_formats = {rt::activation_texel_format(p), rt::vec4_texel_format(p)};
     detector_head_tiled.emplace(ctx, std::move(head));
+    conv_pool.emplace(ctx, p);
   }
   for (std::size_t i = 0; i < kSuperPointLayers; ++i)
     convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
@@ -177,17 +179,23 @@ void SuperPointPlan::record() {
   const SuperPointLayer levels[4][2] = {{conv1a, conv1b}, {conv2a, conv2b}, {conv3a, conv3b}, {conv4a, conv4b}};
   for (int level = 0; level < 4; ++level) {
     const auto [a, a_shape] = conv(levels[level][0], *x, shape, 1, true);
-    const bool last = level == 3;
-    const auto [b, b_shape] = conv(levels[level][1], *a, a_shape, last ? 1 : 0, true);
-    if (last) {
-      x = b;
-      shape = b_shape;
+    if (level == 3) {
+      std::tie(x, shape) = conv(levels[level][1], *a, a_shape, 1, true);
       break;
     }
-    shape = {b_shape.channels, b_shape.height / 2, b_shape.width / 2, 1};
-    rt::Buffer& pooled = activation(shape, fmt::format("pool{}", level + 1));
-    net_.pool.record(seq_, *b, b_shape, pooled, 1, fmt::format("pool{}", level + 1));
+    const rt::ActivationShape pooled_shape{net_.convs[levels[level][1]].out_channels, a_shape.height / 2,
+                                           a_shape.width / 2, 1};
+    rt::Buffer& pooled = activation(pooled_shape, fmt::format("pool{}", level + 1));
+    if (net_.conv_pool) {  // one pass; the full-resolution conv*b output is never stored
+      const auto& c = net_.convs[levels[level][1]];
+      net_.conv_pool->record(seq_, *a, a_shape, net_.weights(levels[level][1]), net_.bias(levels[level][1]), pooled,
+                             pooled_shape, true, fmt::format("{}+pool{}", c.name, level + 1));
+    } else {
+      const auto [b, b_shape] = conv(levels[level][1], *a, a_shape, 0, true);
+      net_.pool.record(seq_, *b, b_shape, pooled, 1, fmt::format("pool{}", level + 1));
+    }
     x = &pooled;
+    shape = pooled_shape;
   }
 
   // Detector head: convPa + ReLU, then convPb + softmax + depth-to-space in one kernel.

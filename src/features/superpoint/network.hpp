@@ -37,7 +37,9 @@ struct SuperPointNetwork {
   rt::Conv2d conv3x3, conv1x1;
   rt::MaxPool2x2 pool;
   rt::Kernel input, detector_head, l2norm, nms_rowmax, rank, sample;
-  std::optional<rt::Kernel> detector_head_tiled;  // where the device reads the tiled kernels' texel formats
+  // Where the device reads the tiled kernels' texel formats: the detector head, and conv*b fused with the pool.
+  std::optional<rt::Kernel> detector_head_tiled;
+  std::optional<rt::Conv3x3MaxPool> conv_pool;
   std::size_t max_texel_elements;
   std::array<rt::Kernel, 4> nms_colmax;  // stages 0..3 (shaders/superpoint_nms_colmax.comp)
 };
