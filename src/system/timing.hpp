@@ -1,7 +1,8 @@
 #pragma once
 // Per-module timing of a run, as in the paper's runtime table: PE point extraction, LE line extraction, PM point
-// matching, LM line association + matching, IPE initial pose estimation, BA keyframe processing + local bundle
-// adjustment. Every frame adds one sample per module it ran.
+// matching, LM line association + matching, IPE initial pose estimation, BA keyframe processing (stereo
+// triangulation, map update) + local bundle adjustment. Every frame adds one sample per module it ran; a new
+// keyframe adds one more to PE (its right image), PM (its stereo matches) and LE (its right-image lines).
 #include <array>
 #include <chrono>
 #include <string>
@@ -34,11 +35,17 @@ class TimingReport {
   std::array<std::vector<double>, kModules.size()> samples_;
 };
 
-// Milliseconds since construction.
+// Milliseconds since construction (ms), or since the previous lap (lap, which starts the next one).
 class Stopwatch {
  public:
   double ms() const {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  }
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double elapsed = std::chrono::duration<double, std::milli>(now - start_).count();
+    start_ = now;
+    return elapsed;
   }
 
  private:

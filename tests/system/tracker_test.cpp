@@ -66,6 +66,10 @@ TEST(Tracker, TracksAnExactSceneToMillimetresWithKeyframes) {
   EXPECT_GT(run.tracker.map().points().size(), 100u);
   EXPECT_GT(run.timing.stats(Module::IPE).samples, 50u);
   EXPECT_EQ(run.timing.stats(Module::BA).samples, static_cast<std::size_t>(keyframes));
+  // Frames come without their detection here: PE's samples are the keyframes' right images, and every keyframe
+  // adds its stereo matching to PM.
+  EXPECT_EQ(run.timing.stats(Module::PE).samples, static_cast<std::size_t>(keyframes));
+  EXPECT_GE(run.timing.stats(Module::PM).samples, static_cast<std::size_t>(keyframes));
 }
 
 TEST(Tracker, NoisyKeypointsStayWithinCentimetres) {
