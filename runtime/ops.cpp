@@ -66,7 +66,10 @@ KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool tiled,
   if (kernel_size != 1 && kernel_size != 3) throw std::invalid_argument("Conv2d: kernel size must be 1 or 3");
   std::vector<vk::Format> texel_formats;
   if (tiled) texel_formats = {vec4_texel_format(precision), vec4_texel_format(precision)};
-  const char* op = kernel_size == 1 ? "conv1x1" : !tiled ? "conv3x3" : max_pool ? "conv3x3_maxpool_tiled" : "conv3x3_tiled";
+  const char* op = kernel_size == 1 ? "conv1x1"
+                   : !tiled         ? "conv3x3"
+                   : max_pool       ? "conv3x3_maxpool_tiled"
+                                    : "conv3x3_tiled";
   return {.op = op, .precision = precision,
           .bindings = 4,
           .written_bindings = 1u << 3,
