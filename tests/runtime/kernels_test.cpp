@@ -244,13 +244,7 @@ TEST_P(Kernels, MaxPool2x2MatchesReference) {
   const int c = 5, h = 13, w = 18;  // odd height: last row dropped (floor)
   const auto input = as_stored(random_values(std::size_t(c) * h * w, 31), precision());
   const int oh = h / 2, ow = w / 2;
-  std::vector<float> expected(std::size_t(c) * oh * ow);
-  for (int i = 0; i < c; ++i)
-    for (int y = 0; y < oh; ++y)
-      for (int x = 0; x < ow; ++x) {
-        const float* p = &input[(i * h + 2 * y) * w + 2 * x];
-        expected[(i * oh + y) * ow + x] = std::max(std::max(p[0], p[1]), std::max(p[w], p[w + 1]));
-      }
+  const auto expected = reference_max_pool(input, c, h, w);
   auto in_buf = test::upload_tensor(ctx, add_border(input, c, h, w, 1), precision());
   const ActivationShape out{std::uint32_t(c), std::uint32_t(oh), std::uint32_t(ow), 1};
   Buffer out_buf(ctx, activation_bytes(out, precision()));

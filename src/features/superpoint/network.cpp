@@ -76,7 +76,6 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
       block(ctx, std::max<std::size_t>(pack.data_block().size(), 16), rt::BufferKind::device, "superpoint.weights"),
       conv3x3(ctx, p, 3, tiled ? rt::Conv3x3Kernel::automatic : rt::Conv3x3Kernel::direct),
       conv1x1(ctx, p, 1, tiled ? rt::Conv3x3Kernel::automatic : rt::Conv3x3Kernel::direct),
-      pool(ctx, p),
       input(ctx, spec("superpoint_input", p, 2, 1u << 1, sizeof(InputPush))),
       detector_head(ctx, spec("superpoint_detector_head", p, 4, 1u << 3, sizeof(HeadPush))),
       l2norm(ctx, spec("superpoint_l2norm", p, 2, 1u << 1, sizeof(NormPush))),
@@ -91,6 +90,8 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
     head.texel_formats = {rt::activation_texel_format(p), rt::vec4_texel_format(p)};
     detector_head_tiled.emplace(ctx, std::move(head));
     conv_pool.emplace(ctx, p);
+  } else {
+    pool.emplace(ctx, p);
   }
   for (std::size_t i = 0; i < kSuperPointLayers; ++i)
     convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
@@ -192,7 +193,7 @@ void SuperPointPlan::record() {
                              pooled_shape, true, fmt::format("{}+pool{}", c.name, level + 1));
     } else {
       const auto [b, b_shape] = conv(levels[level][1], *a, a_shape, 0, true);
-      net_.pool.record(seq_, *b, b_shape, pooled, 1, fmt::format("pool{}", level + 1));
+      net_.pool->record(seq_, *b, b_shape, pooled, 1, fmt::format("pool{}", level + 1));
     }
     x = &pooled;
     shape = pooled_shape;

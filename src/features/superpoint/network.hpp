@@ -35,11 +35,12 @@ struct SuperPointNetwork {
   std::array<SuperPointConv, kSuperPointLayers> convs;
   rt::Buffer block;  // the pack's whole data block
   rt::Conv2d conv3x3, conv1x1;
-  rt::MaxPool2x2 pool;
   rt::Kernel input, detector_head, l2norm, nms_rowmax, rank, sample;
-  // Where the device reads the tiled kernels' texel formats: the detector head, and conv*b fused with the pool.
+  // Where the device reads the tiled kernels' texel formats: the detector head, and conv*b fused with the pool;
+  // elsewhere conv*b is followed by `pool`. Exactly one of conv_pool and pool is set.
   std::optional<rt::Kernel> detector_head_tiled;
   std::optional<rt::Conv3x3MaxPool> conv_pool;
+  std::optional<rt::MaxPool2x2> pool;
   std::size_t max_texel_elements;
   std::array<rt::Kernel, 4> nms_colmax;  // stages 0..3 (shaders/superpoint_nms_colmax.comp)
 };
