@@ -116,33 +116,42 @@ void SuperPointRandom::check_dense_outputs(bool tiled_kernels) {
 }
 
 // Post-processing: the device's keypoints must equal the C++ post-processing of the device's own dense maps
-// exactly (same pixels, same order, same scores), descriptors to 1e-5, for several parameter sets.
+// exactly (same pixels, same order, same scores), descriptors to 1e-5, for several parameter sets, with the NMS
+// read through texel views and through storage buffers. The NMS kernels take 4 pixels per invocation and read
+// ceil(r/4) vec4s either side: radii 1, 2, 4 (one), 5 and 9 (two and three), near and away from the map's edges.
 TEST_P(SuperPointRandom, PostProcessingMatchesReference) {
   const auto pack = random_pack(11);
   struct Setting {
     float threshold;
     int radius, border, max_keypoints;
   };
-  for (const Setting s : {Setting{0.005f, 4, 4, 400}, Setting{0.02f, 2, 7, 25}, Setting{0.0f, 1, 0, -1}}) {
-    SuperPointParams params{s.threshold, s.radius, s.border, s.max_keypoints, GetParam()};
-    SuperPoint sp(gpu(), pack, params);
-    const cv::Mat image = random_image(101, 67, 5);  // dense 96 x 64
-    SuperPointDense dense;
-    const PointFeatures got = sp.detect(image, &dense);
-    const reference::Dense d{dense.cells_h, dense.cells_w, dense.scores, dense.descriptors};
-    const reference::Keypoints want = reference::postprocess(d, s.threshold, s.radius, s.border, s.max_keypoints);
-    SCOPED_TRACE(::testing::Message() << "threshold " << s.threshold << " radius " << s.radius << " border "
-                                      << s.border << " k " << s.max_keypoints);
-    ASSERT_GT(want.xy.size(), 5u) << "the test image must produce keypoints";
-    ASSERT_EQ(got.size(), want.xy.size());
-    EXPECT_EQ(got.descriptors.cols(), 256);
-    for (std::size_t i = 0; i < got.size(); ++i) {
-      ASSERT_EQ(got.keypoints[i], want.xy[i]) << "keypoint " << i;
-      ASSERT_EQ(got.scores[i], want.scores[i]) << "keypoint " << i;
-      for (int c = 0; c < 256; ++c) ASSERT_NEAR(got.descriptors(i, c), want.descriptors[i][c], 1e-5f) << i << "," << c;
-    }
-    if (s.max_keypoints < 0) {
-      EXPECT_EQ(sp.last_candidate_count(), got.size()) << "no limit keeps every candidate";
+  const Setting settings[] = {{0.005f, 4, 4, 400}, {0.02f, 2, 7, 25}, {0.0f, 1, 0, -1}, {0.002f, 5, 1, 200},
+                              {0.0f, 9, 0, -1}};
+  for (const bool tiled : {true, false}) {
+    for (const Setting s : settings) {
+      SuperPointParams params{s.threshold, s.radius, s.border, s.max_keypoints, GetParam()};
+      params.tiled_kernels = tiled;
+      SuperPoint sp(gpu(), pack, params);
+      const cv::Mat image = random_image(101, 67, 5);  // dense 96 x 64
+      SuperPointDense dense;
+      const PointFeatures got = sp.detect(image, &dense);
+      const reference::Dense d{dense.cells_h, dense.cells_w, dense.scores, dense.descriptors};
+      const reference::Keypoints want = reference::postprocess(d, s.threshold, s.radius, s.border, s.max_keypoints);
+      SCOPED_TRACE(::testing::Message() << (tiled ? "texel" : "storage-buffer") << " NMS, threshold " << s.threshold
+                                        << " radius " << s.radius << " border " << s.border << " k "
+                                        << s.max_keypoints);
+      ASSERT_GT(want.xy.size(), 5u) << "the test image must produce keypoints";
+      ASSERT_EQ(got.size(), want.xy.size());
+      EXPECT_EQ(got.descriptors.cols(), 256);
+      for (std::size_t i = 0; i < got.size(); ++i) {
+        ASSERT_EQ(got.keypoints[i], want.xy[i]) << "keypoint " << i;
+        ASSERT_EQ(got.scores[i], want.scores[i]) << "keypoint " << i;
+        for (int c = 0; c < 256; ++c)
+          ASSERT_NEAR(got.descriptors(i, c), want.descriptors[i][c], 1e-5f) << i << "," << c;
+      }
+      if (s.max_keypoints < 0) {
+        EXPECT_EQ(sp.last_candidate_count(), got.size()) << "no limit keeps every candidate";
+      }
     }
   }
 }

@@ -46,10 +46,20 @@ rt::KernelSpec spec(const char* op, rt::Precision precision, std::uint32_t bindi
           .push_constant_bytes = push_bytes, .specialization = std::move(specialization)};
 }
 
-rt::Kernel colmax_kernel(const rt::Context& ctx, rt::Precision p, std::uint32_t stage) {
+rt::Kernel rowmax_kernel(const rt::Context& ctx, rt::Precision p, bool texel) {
+  // Bindings: 0 the map, 1 the row maxima.
+  auto s = spec(texel ? "superpoint_nms_rowmax_tiled" : "superpoint_nms_rowmax", p, 2, 1u << 1, sizeof(RowPush));
+  if (texel) s.texel_formats = {rt::vec4_texel_format(rt::Precision::fp32)};
+  return rt::Kernel(ctx, std::move(s));
+}
+
+rt::Kernel colmax_kernel(const rt::Context& ctx, rt::Precision p, bool texel, std::uint32_t stage) {
   // Bindings: 0 rows, 1 scores, 2 max_mask, 3 supp_scores, 4 supp, 5 candidates, 6 counter.
   constexpr std::uint32_t kWritten[4] = {1u << 2, (1u << 3) | (1u << 4), 1u << 2, (1u << 2) | (1u << 5) | (1u << 6)};
-  return rt::Kernel(ctx, spec("superpoint_nms_colmax", p, 7, kWritten[stage], sizeof(ColPush), {stage}));
+  auto s = spec(texel ? "superpoint_nms_colmax_tiled" : "superpoint_nms_colmax", p, 7, kWritten[stage],
+                sizeof(ColPush), {stage});
+  if (texel) s.texel_formats = {rt::vec4_texel_format(rt::Precision::fp32), rt::vec4_texel_format(rt::Precision::fp32)};
+  return rt::Kernel(ctx, std::move(s));
 }
 
 SuperPointConv find_conv(const io::ModelPack& pack, SuperPointLayer layer, rt::Precision precision) {
@@ -71,6 +81,11 @@ SuperPointConv find_conv(const io::ModelPack& pack, SuperPointLayer layer, rt::P
 
 }  // namespace
 
+NmsKernels::NmsKernels(const rt::Context& ctx, rt::Precision p, bool texel)
+    : rowmax(rowmax_kernel(ctx, p, texel)),
+      colmax{colmax_kernel(ctx, p, texel, 0), colmax_kernel(ctx, p, texel, 1), colmax_kernel(ctx, p, texel, 2),
+             colmax_kernel(ctx, p, texel, 3)} {}
+
 SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack& pack, rt::Precision p, bool tiled)
     : precision(p),
       block(ctx, std::max<std::size_t>(pack.data_block().size(), 16), rt::BufferKind::device, "superpoint.weights"),
@@ -79,17 +94,16 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
       input(ctx, spec("superpoint_input", p, 2, 1u << 1, sizeof(InputPush))),
       detector_head(ctx, spec("superpoint_detector_head", p, 4, 1u << 3, sizeof(HeadPush))),
       l2norm(ctx, spec("superpoint_l2norm", p, 2, 1u << 1, sizeof(NormPush))),
-      nms_rowmax(ctx, spec("superpoint_nms_rowmax", p, 2, 1u << 1, sizeof(RowPush))),
       rank(ctx, spec("superpoint_rank", p, 3, 1u << 2, sizeof(RankPush))),
       sample(ctx, spec("superpoint_sample", p, 7, (1u << 4) | (1u << 5) | (1u << 6), sizeof(SamplePush))),
-      nms_colmax{colmax_kernel(ctx, p, 0), colmax_kernel(ctx, p, 1), colmax_kernel(ctx, p, 2),
-                 colmax_kernel(ctx, p, 3)},
+      nms(ctx, p, false),
       max_texel_elements(ctx.caps().max_texel_buffer_elements) {
   if (tiled && rt::tiled_kernels_available(ctx, p)) {
     rt::KernelSpec head = spec("superpoint_detector_head_tiled", p, 4, 1u << 3, sizeof(HeadPush));
     head.texel_formats = {rt::activation_texel_format(p), rt::vec4_texel_format(p)};
     detector_head_tiled.emplace(ctx, std::move(head));
     conv_pool.emplace(ctx, p);
+    nms_tiled.emplace(ctx, p, true);
   } else {
     pool.emplace(ctx, p);
   }
@@ -215,22 +229,23 @@ void SuperPointPlan::record() {
   seq_.dispatch(net_.l2norm, {*db, dense_descriptors_}, NormPush{db_shape.channels, cells},
                 {rt::groups_for(cells, 64)}, "descriptor l2norm");
 
-  // NMS (two suppression rounds), selection, top-k, sampling.
+  // NMS (two suppression rounds), selection, top-k, sampling. 4 pixels per invocation: w8 is a multiple of 8.
   const std::uint32_t w8 = cells_w_ * 8, h8 = cells_h_ * 8;
-  const rt::Groups pixel_groups{rt::groups_for(std::size_t(w8) * h8, 64)};
+  const std::size_t map_vec4s = std::size_t(w8) * h8 / 4;
+  const NmsKernels& nms = net_.nms_tiled && map_vec4s <= net_.max_texel_elements ? *net_.nms_tiled : net_.nms;
+  const rt::Groups pixel_groups{rt::groups_for(map_vec4s, 64)};
   const RowPush row_push{w8, h8, radius_};
   const ColPush col_push{w8, h8, radius_, border_, threshold_, capacity_};
   const auto colmax = [&](int stage, const char* label) {
-    seq_.dispatch(net_.nms_colmax[stage],
-                  {rows_, dense_scores_, mask_, supp_scores_, supp_, candidates_, counter_}, col_push, pixel_groups,
-                  label);
+    seq_.dispatch(nms.colmax[stage], {rows_, dense_scores_, mask_, supp_scores_, supp_, candidates_, counter_},
+                  col_push, pixel_groups, label);
   };
-  seq_.dispatch(net_.nms_rowmax, {dense_scores_, rows_}, row_push, pixel_groups, "nms rows(scores)");
+  seq_.dispatch(nms.rowmax, {dense_scores_, rows_}, row_push, pixel_groups, "nms rows(scores)");
   colmax(0, "nms max mask");
   for (int round = 0; round < 2; ++round) {
-    seq_.dispatch(net_.nms_rowmax, {mask_, rows_}, row_push, pixel_groups, "nms rows(mask)");
+    seq_.dispatch(nms.rowmax, {mask_, rows_}, row_push, pixel_groups, "nms rows(mask)");
     colmax(1, "nms suppress");
-    seq_.dispatch(net_.nms_rowmax, {supp_scores_, rows_}, row_push, pixel_groups, "nms rows(supp scores)");
+    seq_.dispatch(nms.rowmax, {supp_scores_, rows_}, row_push, pixel_groups, "nms rows(supp scores)");
     colmax(round == 0 ? 2 : 3, round == 0 ? "nms update" : "nms update+select");
   }
   seq_.dispatch(net_.rank, {candidates_, counter_, order_}, RankPush{capacity_, max_keypoints_},

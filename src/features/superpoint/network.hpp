@@ -24,6 +24,15 @@ struct SuperPointConv {
   std::size_t weight_offset = 0, weight_bytes = 0, bias_offset = 0, bias_bytes = 0;
 };
 
+// NMS's separable max-pool passes (shaders/superpoint_nms_*.comp): the row half, and the column half fused with
+// the suppression steps, stages 0..3.
+struct NmsKernels {
+  // `texel`: read the maps through RGBA32F texel views (the _tiled shaders) instead of storage buffers.
+  NmsKernels(const rt::Context& context, rt::Precision precision, bool texel);
+  rt::Kernel rowmax;
+  std::array<rt::Kernel, 4> colmax;
+};
+
 struct SuperPointNetwork {
   // `tiled`: use the texel-buffer kernels where the device reads their formats (SuperPointParams::tiled_kernels).
   SuperPointNetwork(const rt::Context& context, const io::ModelPack& pack, rt::Precision precision, bool tiled);
@@ -35,14 +44,16 @@ struct SuperPointNetwork {
   std::array<SuperPointConv, kSuperPointLayers> convs;
   rt::Buffer block;  // the pack's whole data block
   rt::Conv2d conv3x3, conv1x1;
-  rt::Kernel input, detector_head, l2norm, nms_rowmax, rank, sample;
+  rt::Kernel input, detector_head, l2norm, rank, sample;
+  NmsKernels nms;
   // Where the device reads the tiled kernels' texel formats: the detector head, and conv*b fused with the pool;
   // elsewhere conv*b is followed by `pool`. Exactly one of conv_pool and pool is set.
   std::optional<rt::Kernel> detector_head_tiled;
   std::optional<rt::Conv3x3MaxPool> conv_pool;
   std::optional<rt::MaxPool2x2> pool;
+  // Set with the tiled kernels; used for maps of at most max_texel_elements vec4s.
+  std::optional<NmsKernels> nms_tiled;
   std::size_t max_texel_elements;
-  std::array<rt::Kernel, 4> nms_colmax;  // stages 0..3 (shaders/superpoint_nms_colmax.comp)
 };
 
 // Buffers and the recorded sequence for one image size.
