@@ -129,6 +129,8 @@ struct SuperGlue::Impl {
       mutual_kernel;
   // Sinkhorn through RGBA32F texel buffers, where the device reads them (see texel_sinkhorn_fits()).
   std::optional<rt::Kernel> couplings_pad_kernel, sinkhorn_tiled_kernel;
+  // The attention softmax through texel views of the storage precision, where the device reads them.
+  std::optional<rt::Kernel> softmax_tiled_kernel;
 
   // Per-size state: buffers and the recorded sequence, reused while (n0, n1) stays the same.
   std::size_t n0 = 0, n1 = 0;
@@ -149,8 +151,8 @@ struct SuperGlue::Impl {
         gemm(ctx, precision),
         keypoints_kernel(ctx, {.op = "superglue_keypoints", .precision = precision, .bindings = 3,
                                .written_bindings = 1u << 2, .push_constant_bytes = 24, .specialization = {}}),
-        softmax_kernel(ctx, {.op = "superglue_softmax", .precision = precision, .bindings = 1,
-                             .written_bindings = 1u, .push_constant_bytes = 12, .specialization = {}}),
+        softmax_kernel(ctx, {.op = "superglue_softmax", .precision = precision, .bindings = 2,
+                             .written_bindings = 1u << 1, .push_constant_bytes = 12, .specialization = {}}),
         scores_kernel(ctx, {.op = "superglue_scores", .precision = precision, .bindings = 2,
                             .written_bindings = 1u << 1, .push_constant_bytes = 20, .specialization = {}}),
         sinkhorn_kernel(ctx, {.op = "superglue_sinkhorn", .precision = precision, .bindings = 3,
@@ -165,7 +167,13 @@ struct SuperGlue::Impl {
       throw std::runtime_error(fmt::format("SuperGlue: device '{}' does not support precision {}", ctx.caps().name,
                                            rt::to_string(precision)));
     iterations = params.sinkhorn_iterations > 0 ? params.sinkhorn_iterations : config.sinkhorn_iterations;
-    if (params.texel_sinkhorn && ctx.supports_uniform_texel_format(vk::Format::eR32G32B32A32Sfloat)) {
+    if (params.texel_kernels && ctx.supports_uniform_texel_format(rt::vec4_texel_format(precision))) {
+      softmax_tiled_kernel.emplace(
+          ctx, rt::KernelSpec{.op = "superglue_softmax_tiled", .precision = precision, .bindings = 2,
+                              .written_bindings = 1u << 1, .push_constant_bytes = 12, .specialization = {},
+                              .texel_formats = {rt::vec4_texel_format(precision)}});
+    }
+    if (params.texel_kernels && ctx.supports_uniform_texel_format(vk::Format::eR32G32B32A32Sfloat)) {
       couplings_pad_kernel.emplace(ctx, rt::KernelSpec{.op = "superglue_couplings_pad", .precision = precision,
                                                        .bindings = 3, .written_bindings = 0b110u,
                                                        .push_constant_bytes = 16, .specialization = {}});
@@ -344,7 +352,10 @@ struct SuperGlue::Impl {
                  .a_batch_stride = head_dim, .b_batch_stride = head_dim, .c_batch_stride = rows_a * keys},
                 label + " q.k");
     struct SoftmaxPush { std::uint32_t rows, cols, stride; } sp{heads * rows_a, rows_s, keys};
-    seq->dispatch(softmax_kernel, {rt::Binding(scores)}, sp, {rt::groups_for(sp.rows, 64)}, label + " softmax");
+    // Read through a texel view where the device reads the format and the buffer fits its texel limit.
+    const bool texel = softmax_tiled_kernel && scores.size() / (4 * rt::storage_bytes(precision)) <=
+                                                   context.caps().max_texel_buffer_elements;
+    seq->dispatch(texel ? *softmax_tiled_kernel : softmax_kernel, {rt::Binding(scores), rt::Binding(scores)}, sp, {rt::groups_for(sp.rows, 64)}, label + " softmax");
     gemm.record(*seq, scores, *qkv, nullptr, *state,
                 {.m = rows_a, .n = head_dim, .k = keys, .lda = keys, .ldb = 3 * dim, .ldc = 2 * dim,
                  .b_offset = first_s * 3 * dim + 2 * dim, .c_offset = first_a * 2 * dim + dim, .batch = heads,

@@ -81,10 +81,10 @@ TEST_P(SuperGlueRandom, SinkhornAndExtractionWithoutGnn) {
   const auto pack = test::random_superglue_pack(spec);
   // Both Sinkhorn kernels: through texel buffers (the default where the device reads them) and the storage-buffer
   // fallback; 50 + 1 and 41 + 1 lines are not multiples of the texel width.
-  for (const bool texel_sinkhorn : {true, false}) {
-    SCOPED_TRACE(texel_sinkhorn ? "texel-buffer Sinkhorn" : "storage-buffer Sinkhorn");
+  for (const bool texel_kernels : {true, false}) {
+    SCOPED_TRACE(texel_kernels ? "texel-buffer Sinkhorn" : "storage-buffer Sinkhorn");
     SuperGlueParams p = params();
-    p.texel_sinkhorn = texel_sinkhorn;
+    p.texel_kernels = texel_kernels;
     SuperGlue net(gpu(), pack, p);
     EXPECT_EQ(net.config().sinkhorn_iterations, 20);
     const auto [a, b] = make_pair(50, 41, 32, 3);
@@ -101,12 +101,19 @@ TEST_P(SuperGlueRandom, SingleSelfAndCrossAttentionLayers) {
     spec.seed = cross ? 11 : 12;
     spec.proj_gain = 8.0;  // scores = gain^2 cos / sqrt(64): strong enough to beat the bin score
     const auto pack = test::random_superglue_pack(spec);
-    SuperGlue net(gpu(), pack, params());
-    // Set sizes that are not multiples of 4, then multiples of 8: the attention's softmax and p.v GEMM take
-    // their general paths, then the vec4 softmax and the tiled p.v.
-    for (const auto& [n0, n1] : {std::pair{29, 66}, std::pair{24, 40}}) {
-      const auto [a, b] = make_pair(n0, n1, 64, 4);
-      expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+    // The softmax reads scores through a texel view (the default where the device reads it) and through the
+    // storage-buffer fallback.
+    for (const bool texel_kernels : {true, false}) {
+      SCOPED_TRACE(texel_kernels ? "texel-buffer softmax" : "storage-buffer softmax");
+      SuperGlueParams p = params();
+      p.texel_kernels = texel_kernels;
+      SuperGlue net(gpu(), pack, p);
+      // Set sizes that are not multiples of 4, then multiples of 8: the attention's softmax and p.v GEMM take
+      // their general paths (scores past the last whole vec4 one by one), then the vec4 softmax and the tiled p.v.
+      for (const auto& [n0, n1] : {std::pair{29, 66}, std::pair{24, 40}}) {
+        const auto [a, b] = make_pair(n0, n1, 64, 4);
+        expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+      }
     }
   }
 }
