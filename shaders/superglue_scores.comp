@@ -2,6 +2,7 @@
 // SuperGlue score matrix with dustbins, fp32 output for the optimal transport: for i < n0, j < n1
 // Z[i][j] = <mdesc0_i, mdesc1_j> * scale (scale = 1 / sqrt(D)); row n0 and column n1 hold the learned bin score.
 // Z is (n0 + 1) x (n1 + 1), row-major. Each invocation computes a 3 x 4 block (12 accumulation chains).
+// superglue_scores_tiled.comp is the same through a texel view, where the device has one large enough.
 #include "precision.glsl"
 
 layout(local_size_x = 16, local_size_y = 4) in;

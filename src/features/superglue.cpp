@@ -129,8 +129,9 @@ struct SuperGlue::Impl {
       mutual_kernel;
   // Sinkhorn through RGBA32F texel buffers, where the device reads them (see texel_sinkhorn_fits()).
   std::optional<rt::Kernel> couplings_pad_kernel, sinkhorn_tiled_kernel;
-  // The attention softmax through texel views of the storage precision, where the device reads them.
-  std::optional<rt::Kernel> softmax_tiled_kernel;
+  // The attention softmax and the score matrix through texel views of the storage precision, where the device
+  // reads them.
+  std::optional<rt::Kernel> softmax_tiled_kernel, scores_tiled_kernel;
 
   // Per-size state: buffers and the recorded sequence, reused while (n0, n1) stays the same.
   std::size_t n0 = 0, n1 = 0;
@@ -172,6 +173,11 @@ struct SuperGlue::Impl {
           ctx, rt::KernelSpec{.op = "superglue_softmax_tiled", .precision = precision, .bindings = 2,
                               .written_bindings = 1u << 1, .push_constant_bytes = 12, .specialization = {},
                               .texel_formats = {rt::vec4_texel_format(precision)}});
+      if (config.descriptor_dim % 4 == 0)
+        scores_tiled_kernel.emplace(
+            ctx, rt::KernelSpec{.op = "superglue_scores_tiled", .precision = precision, .bindings = 2,
+                                .written_bindings = 1u << 1, .push_constant_bytes = 20, .specialization = {},
+                                .texel_formats = {rt::vec4_texel_format(precision)}});
     }
     if (params.texel_kernels && ctx.supports_uniform_texel_format(vk::Format::eR32G32B32A32Sfloat)) {
       couplings_pad_kernel.emplace(ctx, rt::KernelSpec{.op = "superglue_couplings_pad", .precision = precision,
@@ -394,7 +400,9 @@ struct SuperGlue::Impl {
     struct ScoresPush { std::uint32_t n0, n1, dim; float scale, bin; } sc{std::uint32_t(n0), std::uint32_t(n1), dim,
                                                                          1.0f / std::sqrt(float(dim)),
                                                                          config.bin_score};
-    seq->dispatch(scores_kernel, {rt::Binding(*hidden), rt::Binding(*z)}, sc,
+    const bool texel_scores = scores_tiled_kernel && hidden->size() / (4 * rt::storage_bytes(precision)) <=
+                                                         context.caps().max_texel_buffer_elements;
+    seq->dispatch(texel_scores ? *scores_tiled_kernel : scores_kernel, {rt::Binding(*hidden), rt::Binding(*z)}, sc,
                   {rt::groups_for(rt::groups_for(n1 + 1, 4), 16), rt::groups_for(rt::groups_for(n0 + 1, 3), 4)},
                   "scores");
     seq->fill_zero(*u, "sinkhorn init");

@@ -29,9 +29,9 @@ struct SuperGlueParams {
   float match_threshold = 0.2f;    // keep mutual matches whose exp(log-assignment) exceeds this
   int sinkhorn_iterations = 100;   // <= 0: the pack's value
   std::optional<rt::Precision> precision;  // nullopt: DeviceCaps::preferred_precision()
-  // Sinkhorn and the attention softmax through texel buffers (superglue_sinkhorn_tiled.comp,
-  // superglue_softmax_tiled.comp) where the device can; false forces the storage-buffer kernels that devices with
-  // small texel buffers fall back to (tests cover both).
+  // Sinkhorn, the attention softmax and the score matrix through texel buffers (superglue_*_tiled.comp) where
+  // the device can; false forces the storage-buffer kernels that devices with small texel buffers fall back to
+  // (tests cover both).
   bool texel_kernels = true;
 };
 
