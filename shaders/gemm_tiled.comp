@@ -89,19 +89,23 @@ void main() {
   vec4 acc[kRows][2];  // [row][columns n0..n0+3 | n0+4..n0+7]
   [[unroll]] for (uint i = 0; i < kRows; ++i) acc[i][0] = acc[i][1] = vec4(0);
 
-  // One loop per form of op(B), the branch outside: a CPU driver runs both sides of a branch with lane masks
-  // (lavapipe does), so a branch inside the loop would cost every step both bodies.
+  // Per step, every fetch comes before the arithmetic: each texel fetch is a call on lavapipe that clobbers the
+  // vector registers, and with A's fetch between the rows' multiply-adds the accumulators were stored and
+  // reloaded around every one (fetching first: 1000x512x512 B^T fp32 10-15 % faster, alternating runs on 2 Zen 3
+  // cores). One loop per form of op(B), the branch outside: a CPU driver runs both sides of a branch with lane
+  // masks (lavapipe does), so a branch inside the loop would cost every step both bodies.
   const uint steps = p.k / kPerTexel;
   if (transposed) {
     for (uint s = 0; s < steps; ++s) {
       avec4 b[8][kVecs];  // column j's kPerTexel values along K
       [[unroll]] for (uint j = 0; j < 8u; ++j) FETCH(b_texels, b_texel[j] + s, b[j]);
+      avec4 a[kRows][kVecs];
+      [[unroll]] for (uint i = 0; i < kRows; ++i) FETCH(a_texels, a_row[i] + s, a[i]);
       [[unroll]] for (uint i = 0; i < kRows; ++i) {
-        avec4 a[kVecs];
-        FETCH(a_texels, a_row[i] + s, a);
         [[unroll]] for (uint v = 0; v < kVecs; ++v) {
-          acc[i][0] += vec4(dot(a[v], b[0][v]), dot(a[v], b[1][v]), dot(a[v], b[2][v]), dot(a[v], b[3][v]));
-          acc[i][1] += vec4(dot(a[v], b[4][v]), dot(a[v], b[5][v]), dot(a[v], b[6][v]), dot(a[v], b[7][v]));
+          const avec4 x = a[i][v];
+          acc[i][0] += vec4(dot(x, b[0][v]), dot(x, b[1][v]), dot(x, b[2][v]), dot(x, b[3][v]));
+          acc[i][1] += vec4(dot(x, b[4][v]), dot(x, b[5][v]), dot(x, b[6][v]), dot(x, b[7][v]));
         }
       }
     }
@@ -113,13 +117,14 @@ void main() {
 #else
       [[unroll]] for (uint j = 0; j < 8u; ++j) FETCH(b_texels, b_texel[j] + s * b_step, r[j]);
 #endif
+      avec4 a[kRows][kVecs];
+      [[unroll]] for (uint i = 0; i < kRows; ++i) FETCH(a_texels, a_row[i] + s, a[i]);
       [[unroll]] for (uint i = 0; i < kRows; ++i) {
-        avec4 a[kVecs];
-        FETCH(a_texels, a_row[i] + s, a);
         [[unroll]] for (uint v = 0; v < kVecs; ++v) {
           const uint kk = 4u * v;
-          acc[i][0] += vec4(a[v].x * r[kk][0] + a[v].y * r[kk + 1u][0] + a[v].z * r[kk + 2u][0] + a[v].w * r[kk + 3u][0]);
-          acc[i][1] += vec4(a[v].x * r[kk][1] + a[v].y * r[kk + 1u][1] + a[v].z * r[kk + 2u][1] + a[v].w * r[kk + 3u][1]);
+          const avec4 x = a[i][v];
+          acc[i][0] += vec4(x.x * r[kk][0] + x.y * r[kk + 1u][0] + x.z * r[kk + 2u][0] + x.w * r[kk + 3u][0]);
+          acc[i][1] += vec4(x.x * r[kk][1] + x.y * r[kk + 1u][1] + x.z * r[kk + 2u][1] + x.w * r[kk + 3u][1]);
         }
       }
     }
