@@ -29,9 +29,9 @@ struct GemmPush {
 };
 // Output rows per invocation (ROWS in shaders/gemm.comp, kRows in gemm_tiled.comp).
 constexpr std::uint32_t kGemmRows = 3, kTiledGemmRows = 4;
-// GemmPush::flags, as in shaders/gemm.comp and gemm_tiled.comp (vec4 K/N: gemm.comp only; vec4 C: tiled only).
+// GemmPush::flags, as in shaders/gemm.comp and gemm_tiled.comp (vec4 K/N: gemm.comp only).
 constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGemmAccumulate = 8, kGemmVec4K = 16,
-                        kGemmVec4N = 32, kGemmVec4C = 64;
+                        kGemmVec4N = 32;
 
 // Output channels and pixels per invocation of conv3x3_tiled.comp (and pixels of conv1x1_tiled.comp).
 constexpr std::uint32_t kTiledConvChannels = 8, kTiledConvPixels = 4, kTiledConvRows = 3;
@@ -194,11 +194,15 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
   const bool available = context.supports_uniform_texel_format(texel);
   if (choice == GemmKernel::tiled && !available)
     throw std::invalid_argument("Gemm: the tiled kernel needs uniform texel-buffer reads of the operand format");
-  if (choice != GemmKernel::direct && available)
-    tiled_kernel_.emplace(context, KernelSpec{.op = "gemm_tiled", .precision = precision, .bindings = 4,
-                                              .written_bindings = 1u << 3, .push_constant_bytes = sizeof(GemmPush),
-                                              .specialization = {kGroupX * kGroupY},
-                                              .texel_formats = {texel, texel}});
+  if (choice != GemmKernel::direct && available) {
+    const auto tiled = [&](bool vec4_store) {
+      return KernelSpec{.op = "gemm_tiled", .precision = precision, .bindings = 4, .written_bindings = 1u << 3,
+                        .push_constant_bytes = sizeof(GemmPush),
+                        .specialization = {kGroupX * kGroupY, vec4_store ? 1u : 0u}, .texel_formats = {texel, texel}};
+    };
+    tiled_kernel_.emplace(context, tiled(false));
+    tiled_vec4_store_kernel_.emplace(context, tiled(true));
+  }
 }
 
 namespace {
@@ -244,9 +248,11 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   std::uint32_t flags = (s.b_transposed ? kGemmTransposedB : 0u) | (bias ? kGemmBias : 0u) |
                         (s.relu ? kGemmRelu : 0u) | (s.accumulate ? kGemmAccumulate : 0u);
   const bool tiled = uses_tiled_kernel(s, a, b);
+  const Kernel* kernel = &kernel_;
   Groups groups;
   if (tiled) {
-    if (c.offset % 16 == 0 && multiples_of_4({ldc, s.c_offset, s.c_batch_stride})) flags |= kGemmVec4C;
+    const bool vec4_store = c.offset % 16 == 0 && multiples_of_4({s.n, ldc, s.c_offset, s.c_batch_stride});
+    kernel = vec4_store ? &*tiled_vec4_store_kernel_ : &*tiled_kernel_;
     groups = {groups_for(s.n, 8), groups_for(groups_for(s.m, kTiledGemmRows), kGroupX * kGroupY), s.batch};
   } else {
     // vec4 loads need every vec4 to start at a multiple of 4 elements (and the binding offsets at 16 bytes).
@@ -260,7 +266,7 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   }
   const GemmPush push{s.m, s.n, s.k, lda, ldb, ldc, s.a_offset, s.b_offset, s.c_offset,
                       s.a_batch_stride, s.b_batch_stride, s.c_batch_stride, flags, s.alpha};
-  seq.dispatch(tiled ? *tiled_kernel_ : kernel_, bindings, &push, sizeof(push), groups,
+  seq.dispatch(*kernel, bindings, &push, sizeof(push), groups,
                label.empty() ? fmt::format("gemm {}x{}x{}", s.m, s.n, s.k) : std::move(label));
 }
 

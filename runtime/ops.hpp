@@ -131,7 +131,8 @@ class Gemm {
 
  private:
   Kernel kernel_;
-  std::optional<Kernel> tiled_kernel_;
+  // gemm_tiled.comp storing C one element at a time, and a whole vec4 at a time (kVec4Store).
+  std::optional<Kernel> tiled_kernel_, tiled_vec4_store_kernel_;
   std::size_t max_texel_elements_;
   std::size_t element_bytes_;
   std::uint32_t elements_per_texel_;  // of gemm_tiled.comp's operand views

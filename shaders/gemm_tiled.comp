@@ -16,6 +16,11 @@
 #include "precision.glsl"
 
 layout(local_size_x_id = 0, local_size_y = 1, local_size_z = 1) in;
+// C stored a whole vec4 at a time: the host sets it where N, ldc, the offsets and batch stride are multiples of
+// 4. A specialization constant, not a flag: lavapipe runs both sides of a branch under lane masks, and the
+// per-lane store loops of the scalar epilogue cost the vec4 one a third of its time at K = 64 when they ran
+// (masked off) beside it (400x400x64 B^T fp32 2.2 -> 1.6 ms).
+layout(constant_id = 1) const bool kVec4Store = false;
 
 // fp32: four elements per RGBA32F texel. 16-bit storage: eight halves per RGBA32UI texel, unpacked here: a
 // texel fetch costs lavapipe about the same whatever the format, so packing 8 halves halves the fetches per
@@ -42,7 +47,7 @@ layout(std430, binding = 2) readonly buffer Bias { float bias[]; };
 layout(std430, binding = 3) buffer MatC { sfloat c[]; };
 layout(std430, binding = 3) buffer MatC4 { svec4 c4[]; };
 
-const uint kTransposedB = 1u, kBias = 2u, kRelu = 4u, kAccumulate = 8u, kVec4C = 64u;
+const uint kTransposedB = 1u, kBias = 2u, kRelu = 4u, kAccumulate = 8u;
 
 layout(push_constant) uniform Params {
   uint m, n, k;
@@ -144,7 +149,7 @@ void main() {
         if (m0 + i < p.m) {
           const uint at = c_base + (m0 + i) * p.ldc + col;
           vec4 v = p.alpha * acc[i][h] + bias4;
-          if ((p.flags & kVec4C) != 0u && col + 4u <= p.n) {  // whole aligned vec4: one store
+          if (kVec4Store) {  // whole aligned vec4: one store
             if ((p.flags & kAccumulate) != 0u) v += vec4(c4[at / 4u]);
             if ((p.flags & kRelu) != 0u) v = max(v, 0.0);
             c4[at / 4u] = svec4(v);
