@@ -129,9 +129,9 @@ struct SuperGlue::Impl {
       mutual_kernel;
   // Sinkhorn through RGBA32F texel buffers, where the device reads them (see texel_sinkhorn_fits()).
   std::optional<rt::Kernel> couplings_pad_kernel, sinkhorn_tiled_kernel;
-  // The attention softmax and the score matrix through texel views of the storage precision, where the device
+  // The fused attention and the score matrix through texel views of the storage precision, where the device
   // reads them.
-  std::optional<rt::Kernel> softmax_tiled_kernel, scores_tiled_kernel;
+  std::optional<rt::Kernel> attention_tiled_kernel, scores_tiled_kernel;
 
   // Per-size state: buffers and the recorded sequence, reused while (n0, n1) stays the same.
   std::size_t n0 = 0, n1 = 0;
@@ -152,8 +152,8 @@ struct SuperGlue::Impl {
         gemm(ctx, precision),
         keypoints_kernel(ctx, {.op = "superglue_keypoints", .precision = precision, .bindings = 3,
                                .written_bindings = 1u << 2, .push_constant_bytes = 24, .specialization = {}}),
-        softmax_kernel(ctx, {.op = "superglue_softmax", .precision = precision, .bindings = 2,
-                             .written_bindings = 1u << 1, .push_constant_bytes = 12, .specialization = {}}),
+        softmax_kernel(ctx, {.op = "superglue_softmax", .precision = precision, .bindings = 1,
+                             .written_bindings = 1u, .push_constant_bytes = 12, .specialization = {}}),
         scores_kernel(ctx, {.op = "superglue_scores", .precision = precision, .bindings = 2,
                             .written_bindings = 1u << 1, .push_constant_bytes = 20, .specialization = {}}),
         sinkhorn_kernel(ctx, {.op = "superglue_sinkhorn", .precision = precision, .bindings = 3,
@@ -169,10 +169,12 @@ struct SuperGlue::Impl {
                                            rt::to_string(precision)));
     iterations = params.sinkhorn_iterations > 0 ? params.sinkhorn_iterations : config.sinkhorn_iterations;
     if (params.texel_kernels && ctx.supports_uniform_texel_format(rt::vec4_texel_format(precision))) {
-      softmax_tiled_kernel.emplace(
-          ctx, rt::KernelSpec{.op = "superglue_softmax_tiled", .precision = precision, .bindings = 2,
-                              .written_bindings = 1u << 1, .push_constant_bytes = 12, .specialization = {},
-                              .texel_formats = {rt::vec4_texel_format(precision)}});
+      const std::uint32_t head_dim = std::uint32_t(config.descriptor_dim / config.heads);
+      if (head_dim % 4 == 0)
+        attention_tiled_kernel.emplace(
+            ctx, rt::KernelSpec{.op = "superglue_attention_tiled", .precision = precision, .bindings = 2,
+                                .written_bindings = 1u << 1, .push_constant_bytes = 24,
+                                .specialization = {head_dim / 4}, .texel_formats = {rt::vec4_texel_format(precision)}});
       if (config.descriptor_dim % 4 == 0)
         scores_tiled_kernel.emplace(
             ctx, rt::KernelSpec{.op = "superglue_scores_tiled", .precision = precision, .bindings = 2,
@@ -345,11 +347,22 @@ struct SuperGlue::Impl {
   }
 
   // Multi-head attention of keypoint set `a` (queries) over set `src` (keys, values); the heads' outputs go to the
-  // message half of `a`'s state rows.
+  // message half of `a`'s state rows. One fused pass where qkv fits a texel view (superglue_attention_tiled.comp:
+  // the scores are never stored), else q.k GEMM, softmax in place, p.v GEMM through `scores`.
   void attention(int a, int src, const rt::Buffer& scores, const std::string& label) {
     const std::uint32_t dim = config.descriptor_dim, heads = config.heads, head_dim = dim / heads;
     const std::uint32_t rows_a = a == 0 ? n0 : n1, rows_s = src == 0 ? n0 : n1;
     const std::uint32_t first_a = a == 0 ? 0 : n0, first_s = src == 0 ? 0 : n0;
+    if (attention_tiled_kernel &&
+        qkv->size() / (4 * rt::storage_bytes(precision)) <= context.caps().max_texel_buffer_elements) {
+      struct AttentionPush {
+        std::uint32_t queries, keys, query_row0, key_row0, dim;
+        float scale;
+      } push{rows_a, rows_s, first_a, first_s, dim, 1.0f / std::sqrt(float(head_dim))};
+      seq->dispatch(*attention_tiled_kernel, {rt::Binding(*qkv), rt::Binding(*state)}, push,
+                    {rt::groups_for(rt::groups_for(rows_a, 4), 16), heads, 1}, label);
+      return;
+    }
     const std::uint32_t keys = padded_keys(rows_s);  // score row stride
     gemm.record(*seq, *qkv, *qkv, nullptr, scores,
                 {.m = rows_a, .n = rows_s, .k = head_dim, .b_transposed = true,
@@ -358,10 +371,7 @@ struct SuperGlue::Impl {
                  .a_batch_stride = head_dim, .b_batch_stride = head_dim, .c_batch_stride = rows_a * keys},
                 label + " q.k");
     struct SoftmaxPush { std::uint32_t rows, cols, stride; } sp{heads * rows_a, rows_s, keys};
-    // Read through a texel view where the device reads the format and the buffer fits its texel limit.
-    const bool texel = softmax_tiled_kernel && scores.size() / (4 * rt::storage_bytes(precision)) <=
-                                                   context.caps().max_texel_buffer_elements;
-    seq->dispatch(texel ? *softmax_tiled_kernel : softmax_kernel, {rt::Binding(scores), rt::Binding(scores)}, sp, {rt::groups_for(sp.rows, 64)}, label + " softmax");
+    seq->dispatch(softmax_kernel, {rt::Binding(scores)}, sp, {rt::groups_for(sp.rows, 64)}, label + " softmax");
     gemm.record(*seq, scores, *qkv, nullptr, *state,
                 {.m = rows_a, .n = head_dim, .k = keys, .lda = keys, .ldb = 3 * dim, .ldc = 2 * dim,
                  .b_offset = first_s * 3 * dim + 2 * dim, .c_offset = first_a * 2 * dim + dim, .batch = heads,

@@ -29,9 +29,9 @@ struct SuperGlueParams {
   float match_threshold = 0.2f;    // keep mutual matches whose exp(log-assignment) exceeds this
   int sinkhorn_iterations = 100;   // <= 0: the pack's value
   std::optional<rt::Precision> precision;  // nullopt: DeviceCaps::preferred_precision()
-  // Sinkhorn, the attention softmax and the score matrix through texel buffers (superglue_*_tiled.comp) where
-  // the device can; false forces the storage-buffer kernels that devices with small texel buffers fall back to
-  // (tests cover both).
+  // The fused attention, the score matrix and Sinkhorn through texel buffers (superglue_*_tiled.comp) where the
+  // device can; false forces what devices with small texel buffers fall back to: attention as q.k GEMM, softmax
+  // and p.v GEMM, storage-buffer scores and Sinkhorn (tests cover both).
   bool texel_kernels = true;
 };
 

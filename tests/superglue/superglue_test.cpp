@@ -101,15 +101,16 @@ TEST_P(SuperGlueRandom, SingleSelfAndCrossAttentionLayers) {
     spec.seed = cross ? 11 : 12;
     spec.proj_gain = 8.0;  // scores = gain^2 cos / sqrt(64): strong enough to beat the bin score
     const auto pack = test::random_superglue_pack(spec);
-    // The softmax reads scores through a texel view (the default where the device reads it) and through the
-    // storage-buffer fallback.
+    // The fused attention kernel (the default where the device reads texel buffers) and the fallback's q.k GEMM,
+    // softmax and p.v GEMM.
     for (const bool texel_kernels : {true, false}) {
-      SCOPED_TRACE(texel_kernels ? "texel-buffer softmax" : "storage-buffer softmax");
+      SCOPED_TRACE(texel_kernels ? "fused attention" : "three-pass attention");
       SuperGlueParams p = params();
       p.texel_kernels = texel_kernels;
       SuperGlue net(gpu(), pack, p);
-      // Set sizes that are not multiples of 4, then multiples of 8: the attention's softmax and p.v GEMM take
-      // their general paths (scores past the last whole vec4 one by one), then the vec4 softmax and the tiled p.v.
+      // Set sizes that are not multiples of 4 or 8, then multiples of 8: the fused kernel's last query group and
+      // key block are partial; the fallback's softmax and p.v GEMM take their general paths, then the vec4
+      // softmax and the tiled p.v.
       for (const auto& [n0, n1] : {std::pair{29, 66}, std::pair{24, 40}}) {
         const auto [a, b] = make_pair(n0, n1, 64, 4);
         expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
