@@ -196,6 +196,11 @@ struct SuperGlue::Impl {
   // Z's rows and columns padded to whole texels of 4 entries, for the texel-buffer Sinkhorn.
   std::size_t rows_padded() const { return rt::round_up(n0 + 1, 4); }
   std::size_t cols_padded() const { return rt::round_up(n1 + 1, 4); }
+  // Whether a whole buffer at the storage precision fits one texel view of 4 values per texel (Vulkan guarantees
+  // only 65536 texels): the fused attention reads qkv, the tiled score matrix the projected descriptors so.
+  bool fits_vec4_texel_view(const rt::Buffer& buffer) const {
+    return buffer.size() / (4 * rt::storage_bytes(precision)) <= context.caps().max_texel_buffer_elements;
+  }
   // Whether the texel-buffer Sinkhorn runs at the current size: the device reads RGBA32F texel buffers and both
   // padded copies of Z fit its texel-buffer limit (Vulkan guarantees only 65536 texels).
   bool texel_sinkhorn_fits() const {
@@ -353,8 +358,7 @@ struct SuperGlue::Impl {
     const std::uint32_t dim = config.descriptor_dim, heads = config.heads, head_dim = dim / heads;
     const std::uint32_t rows_a = a == 0 ? n0 : n1, rows_s = src == 0 ? n0 : n1;
     const std::uint32_t first_a = a == 0 ? 0 : n0, first_s = src == 0 ? 0 : n0;
-    if (attention_tiled_kernel &&
-        qkv->size() / (4 * rt::storage_bytes(precision)) <= context.caps().max_texel_buffer_elements) {
+    if (attention_tiled_kernel && fits_vec4_texel_view(*qkv)) {
       struct AttentionPush {
         std::uint32_t queries, keys, query_row0, key_row0, dim;
         float scale;
@@ -410,8 +414,7 @@ struct SuperGlue::Impl {
     struct ScoresPush { std::uint32_t n0, n1, dim; float scale, bin; } sc{std::uint32_t(n0), std::uint32_t(n1), dim,
                                                                          1.0f / std::sqrt(float(dim)),
                                                                          config.bin_score};
-    const bool texel_scores = scores_tiled_kernel && hidden->size() / (4 * rt::storage_bytes(precision)) <=
-                                                         context.caps().max_texel_buffer_elements;
+    const bool texel_scores = scores_tiled_kernel && fits_vec4_texel_view(*hidden);
     seq->dispatch(texel_scores ? *scores_tiled_kernel : scores_kernel, {rt::Binding(*hidden), rt::Binding(*z)}, sc,
                   {rt::groups_for(rt::groups_for(n1 + 1, 4), 16), rt::groups_for(rt::groups_for(n0 + 1, 3), 4)},
                   "scores");
