@@ -27,8 +27,8 @@ struct GemmPush {
   std::uint32_t m, n, k, lda, ldb, ldc, a_offset, b_offset, c_offset, a_batch, b_batch, c_batch, flags;
   float alpha;
 };
-// Output rows per invocation (ROWS in shaders/gemm.comp, kRows in gemm_tiled.comp).
-constexpr std::uint32_t kGemmRows = 3, kTiledGemmRows = 4;
+// Output rows per invocation of shaders/gemm.comp (its ROWS).
+constexpr std::uint32_t kGemmRows = 3;
 // GemmPush::flags, as in shaders/gemm.comp and gemm_tiled.comp (vec4 K/N: gemm.comp only).
 constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGemmAccumulate = 8, kGemmVec4K = 16,
                         kGemmVec4N = 32;
@@ -192,11 +192,14 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
       dummy_bias_(context, 16, BufferKind::device, "gemm.no_bias") {
   const vk::Format texel = gemm_texel_format(precision);
   const bool available = context.supports_uniform_texel_format(texel);
-  if (choice == GemmKernel::tiled && !available)
+  if ((choice == GemmKernel::tiled || choice == GemmKernel::tiled_wide) && !available)
     throw std::invalid_argument("Gemm: the tiled kernel needs uniform texel-buffer reads of the operand format");
   if (choice != GemmKernel::direct && available) {
+    // The wide tile where the device is a CPU (gemm_tiled_body.glsl says why), unless the caller chose.
+    const bool wide = choice == GemmKernel::tiled_wide || (choice == GemmKernel::automatic && context.caps().type == "cpu");
+    tile_ = wide ? TiledGemmTile{8, 16} : TiledGemmTile{4, 8};
     const auto tiled = [&](bool vec4_store) {
-      return KernelSpec{.op = "gemm_tiled", .precision = precision, .bindings = 4, .written_bindings = 1u << 3,
+      return KernelSpec{.op = wide ? "gemm_tiled_wide" : "gemm_tiled", .precision = precision, .bindings = 4, .written_bindings = 1u << 3,
                         .push_constant_bytes = sizeof(GemmPush),
                         .specialization = {kGroupX * kGroupY, vec4_store ? 1u : 0u}, .texel_formats = {texel, texel}};
     };
@@ -221,7 +224,7 @@ bool Gemm::uses_tiled_kernel(const GemmShape& s, const Binding& a, const Binding
   if (!tiled_kernel_) return false;
   // Texel views start at the binding offsets (256 bytes satisfies every device's texel offset alignment) and
   // must stay within the device's texel count; A is read along K, B along K (B^T) or N, a whole texel at a time.
-  // 16-bit texels hold 8 columns of B: N must fill them (fp32 clamps the last 4-column block instead).
+  // 16-bit texels hold 8 columns of B: N must fill them (the kernel clamps a tile's columns to the last whole texel).
   const std::uint32_t per_texel = elements_per_texel_;
   const auto texels = [&](const Binding& x) {
     const std::size_t bytes = x.range == VK_WHOLE_SIZE ? x.buffer->size() - x.offset : x.range;
@@ -253,7 +256,7 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   if (tiled) {
     const bool vec4_store = c.offset % 16 == 0 && multiples_of_4({s.n, ldc, s.c_offset, s.c_batch_stride});
     kernel = vec4_store ? &*tiled_vec4_store_kernel_ : &*tiled_kernel_;
-    groups = {groups_for(s.n, 8), groups_for(groups_for(s.m, kTiledGemmRows), kGroupX * kGroupY), s.batch};
+    groups = {groups_for(s.n, tile_.cols), groups_for(groups_for(s.m, tile_.rows), kGroupX * kGroupY), s.batch};
   } else {
     // vec4 loads need every vec4 to start at a multiple of 4 elements (and the binding offsets at 16 bytes).
     const bool bindings_aligned = a.offset % 16 == 0 && b.offset % 16 == 0;

@@ -113,8 +113,14 @@ struct GemmShape {
 
 // `tiled` (gemm_tiled.comp: 4 x 8 blocks of C, operands read through texel buffers of 4 fp32 or 8 fp16
 // elements) serves the calls whose operands are aligned to whole texels (uses_tiled_kernel) where the device
-// reads the texel format; `direct` (gemm.comp) serves every other call and device.
-enum class GemmKernel { automatic, direct, tiled };
+// reads the texel format; `direct` (gemm.comp) serves every other call and device. `tiled_wide`
+// (gemm_tiled_wide.comp) is the same with 8 x 16 blocks, which `automatic` picks on CPU devices.
+enum class GemmKernel { automatic, direct, tiled, tiled_wide };
+
+// Rows and columns of C per invocation of the tiled kernel; a workgroup spans `cols` columns.
+struct TiledGemmTile {
+  std::uint32_t rows = 4, cols = 8;
+};
 
 class Gemm {
  public:
@@ -128,11 +134,14 @@ class Gemm {
   void record(Sequence& seq, const Binding& a, const Binding& b, const Binding* bias, const Binding& c,
               const GemmShape& shape, std::string label = {}) const;
   static double flops(const GemmShape& s) { return 2.0 * s.m * s.n * s.k * s.batch; }
+  // The tile of the tiled kernel this Gemm runs (meaningful where it has one).
+  TiledGemmTile tiled_tile() const { return tile_; }
 
  private:
   Kernel kernel_;
   // gemm_tiled.comp storing C one element at a time, and a whole vec4 at a time (kVec4Store).
   std::optional<Kernel> tiled_kernel_, tiled_vec4_store_kernel_;
+  TiledGemmTile tile_;
   std::size_t max_texel_elements_;
   std::size_t element_bytes_;
   std::uint32_t elements_per_texel_;  // of gemm_tiled.comp's operand views

@@ -280,7 +280,7 @@ void check_gemm(Precision precision, GemmShape s, bool with_bias, std::uint32_t 
   bias_buf.upload(std::span<const float>(bias));
   Buffer c_buf(ctx, expected.size() * storage_bytes(precision));
   const Gemm gemm(ctx, precision, kernel);
-  if (kernel == GemmKernel::tiled) {
+  if (kernel == GemmKernel::tiled || kernel == GemmKernel::tiled_wide) {
     ASSERT_TRUE(gemm.uses_tiled_kernel(s, Binding(a_buf), Binding(b_buf))) << "shape should be vec4-aligned";
   }
   Sequence seq(ctx);
@@ -290,7 +290,8 @@ void check_gemm(Precision precision, GemmShape s, bool with_bias, std::uint32_t 
   seq.submit();
   const auto got = test::download_tensor(c_buf, expected.size(), precision);
   EXPECT_LE(test::max_abs_diff(got, expected), test::tolerance(precision, expected))
-      << "gemm " << s.m << "x" << s.n << "x" << s.k << (s.b_transposed ? " B^T" : "");
+      << "gemm " << s.m << "x" << s.n << "x" << s.k << (s.b_transposed ? " B^T" : "") << ", tile "
+      << gemm.tiled_tile().rows << "x" << gemm.tiled_tile().cols;
 }
 
 TEST_P(Kernels, GemmMatchesReference) {
@@ -299,20 +300,32 @@ TEST_P(Kernels, GemmMatchesReference) {
   check_gemm(precision(), {.m = 1, .n = 1, .k = 3, .b_transposed = true}, false, 43);
 }
 
-// The tiled kernel (4 x 8 blocks of C, operands through texel buffers of 4 fp32 or 8 fp16 elements): sizes
-// that leave partial row groups and, where the texel allows, partial 8-column blocks; both forms of B; N not a
-// multiple of 4 (scalar stores) and a multiple (vec4); K of a single texel.
+// The tiled kernel with either tile (4 x 8 or 8 x 16 blocks of C, operands through texel buffers of 4 fp32 or
+// 8 fp16 elements): sizes that leave partial row groups, whole subgroups past the last row (M = 300: 38 of 64
+// lanes at 8 rows) and partial column blocks, down to a block wider than N (its texels past N clamped); both
+// forms of B; N not a multiple of 4 (scalar stores) and a multiple (vec4); K of a single texel.
 TEST_P(Kernels, GemmTiledKernelMatchesReference) {
   if (!tiled_kernels_available(gpu(), precision())) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
   const std::uint32_t per_texel = precision() == Precision::fp32 ? 4 : 8;
-  check_gemm(precision(), {.m = 37, .n = 64 + per_texel, .k = 128, .b_transposed = false}, true, 51,
-             GemmKernel::tiled);
-  check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true, 52,
-             GemmKernel::tiled);
-  check_gemm(precision(), {.m = 300, .n = 40, .k = 256, .b_transposed = true}, false, 53, GemmKernel::tiled);
-  check_gemm(precision(), {.m = 5, .n = 8 + per_texel, .k = per_texel, .b_transposed = false, .relu = true}, false,
-             54, GemmKernel::tiled);
-  check_gemm(precision(), {.m = 9, .n = 13, .k = per_texel, .b_transposed = true}, false, 55, GemmKernel::tiled);
+  for (const GemmKernel tiled : {GemmKernel::tiled, GemmKernel::tiled_wide}) {
+    check_gemm(precision(), {.m = 37, .n = 64 + per_texel, .k = 128, .b_transposed = false}, true, 51, tiled);
+    check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true,
+               52, tiled);
+    check_gemm(precision(), {.m = 300, .n = 40, .k = 256, .b_transposed = true}, false, 53, tiled);
+    check_gemm(precision(), {.m = 5, .n = 8 + per_texel, .k = per_texel, .b_transposed = false, .relu = true}, false,
+               54, tiled);
+    check_gemm(precision(), {.m = 9, .n = 13, .k = per_texel, .b_transposed = true}, false, 55, tiled);
+    check_gemm(precision(), {.m = 3, .n = per_texel, .k = 2 * per_texel, .b_transposed = false}, true, 56, tiled);
+  }
+}
+
+// The wide tile is the automatic choice on CPU devices only (gemm_tiled_body.glsl says why).
+TEST(Gemm, AutomaticTileFollowsTheDeviceType) {
+  if (!tiled_kernels_available(gpu(), Precision::fp32)) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
+  const bool cpu = gpu().caps().type == "cpu";
+  EXPECT_EQ(Gemm(gpu(), Precision::fp32).tiled_tile().cols, cpu ? 16u : 8u);
+  EXPECT_EQ(Gemm(gpu(), Precision::fp32, GemmKernel::tiled).tiled_tile().rows, 4u);
+  EXPECT_EQ(Gemm(gpu(), Precision::fp32, GemmKernel::tiled_wide).tiled_tile().rows, 8u);
 }
 
 TEST(Gemm, UnalignedShapesFallBackToTheDirectKernel) {
