@@ -196,11 +196,12 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
     throw std::invalid_argument("Gemm: the tiled kernel needs uniform texel-buffer reads of the operand format");
   if (choice != GemmKernel::direct && available) {
     // The wide tile where the device is a CPU (gemm_tiled_body.glsl says why), unless the caller chose.
-    const bool wide = choice == GemmKernel::tiled_wide || (choice == GemmKernel::automatic && context.caps().type == "cpu");
+    const bool wide =
+        choice == GemmKernel::tiled_wide || (choice == GemmKernel::automatic && context.caps().type == "cpu");
     tile_ = wide ? TiledGemmTile{8, 16} : TiledGemmTile{4, 8};
     const auto tiled = [&](bool vec4_store) {
-      return KernelSpec{.op = wide ? "gemm_tiled_wide" : "gemm_tiled", .precision = precision, .bindings = 4, .written_bindings = 1u << 3,
-                        .push_constant_bytes = sizeof(GemmPush),
+      return KernelSpec{.op = wide ? "gemm_tiled_wide" : "gemm_tiled", .precision = precision, .bindings = 4,
+                        .written_bindings = 1u << 3, .push_constant_bytes = sizeof(GemmPush),
                         .specialization = {kGroupX * kGroupY, vec4_store ? 1u : 0u}, .texel_formats = {texel, texel}};
     };
     tiled_kernel_.emplace(context, tiled(false));

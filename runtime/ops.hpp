@@ -139,7 +139,8 @@ class Gemm {
 
  private:
   Kernel kernel_;
-  // gemm_tiled.comp storing C one element at a time, and a whole vec4 at a time (kVec4Store).
+  // gemm_tiled.comp (or gemm_tiled_wide.comp) storing C one element at a time, and a whole vec4 at a time
+  // (kVec4Store).
   std::optional<Kernel> tiled_kernel_, tiled_vec4_store_kernel_;
   TiledGemmTile tile_;
   std::size_t max_texel_elements_;
