@@ -52,6 +52,7 @@ void main() {
   const uint x0 = (gl_WorkGroupID.y * gl_WorkGroupSize.x + gl_LocalInvocationID.x) * kPixels;
   const uint y = min(gl_WorkGroupID.z * gl_WorkGroupSize.y + gl_LocalInvocationID.y, p.height - 1u);
   const bool row_valid = gl_WorkGroupID.z * gl_WorkGroupSize.y + gl_LocalInvocationID.y < p.height;
+  if (x0 >= p.width || !row_valid) return;  // no pixel of the image: skip the loop (conv3x3_tiled_body.glsl)
   const uint blocks4 = (p.out_channels + 3u) / 4u;
 
   const uint in_plane = plane_size(p.height, p.width, p.in_pad);
