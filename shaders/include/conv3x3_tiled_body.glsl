@@ -25,7 +25,9 @@
 // Three rows per invocation and every loop unrolled ([[unroll]]; an indexed accumulator array becomes memory
 // with masked stores): three rows measured 10-17 % faster than two; four rows measure the same as three since
 // the change above. A Winograd F(2x2,3x3) variant (2.25x fewer multiply-adds) measured 1.1-2.4x slower: its 16
-// transformed weights per filter cost more fetches per output and its transformed-domain accumulators spill.
+// transformed weights per filter cost more fetches per output and its transformed-domain accumulators spill. The
+// Winograd that pays is F(4x4,3x3) as transforms around a batch of GEMMs (runtime/winograd.hpp), which fp32 runs
+// on CPU devices.
 //
 // Out-of-range pixels read clamped addresses and skip the store.
 //

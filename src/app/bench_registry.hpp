@@ -12,6 +12,7 @@ struct BenchOptions {
   int repeat = 10;
   std::vector<rt::Precision> precisions;  // supported by the device; never empty
   std::string model;                      // --model PACK where the bench needs weights
+  std::string winograd = "auto";          // --winograd: SuperPoint's 3x3 convolutions (auto | on | off)
 };
 
 struct NetworkBench {

@@ -71,6 +71,7 @@ int run(const rt::Context& context, const app::BenchOptions& options) {
   for (const auto precision : options.precisions) {
     features::SuperPointParams params;
     params.precision = precision;
+    params.winograd = *features::parse_winograd(options.winograd);
     features::SuperPoint sp(context, pack, params);
     for (const auto& [w, h] : {std::pair{640, 480}, std::pair{752, 480}}) bench_size(sp, w, h, options.repeat);
   }

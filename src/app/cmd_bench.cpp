@@ -20,6 +20,7 @@ struct Options {
   std::string model;
   bool kernels = false;
   std::string filter;
+  std::string winograd = "auto";
   std::vector<std::string> networks;  // names of the --<network> flags given
 };
 
@@ -50,7 +51,7 @@ int run(const Options& options) {
     for (auto p : precisions)
       for (const auto& result : vkvo::app::bench_kernels(context, p, options.repeat, options.filter)) vkvo::app::print_bench_row(result);
   }
-  const vkvo::app::BenchOptions bench_options{options.repeat, precisions, options.model};
+  const vkvo::app::BenchOptions bench_options{options.repeat, precisions, options.model, options.winograd};
   for (const auto& bench : vkvo::app::network_bench_registry())
     if (std::find(options.networks.begin(), options.networks.end(), bench.name) != options.networks.end())
       status |= bench.run(context, bench_options);
@@ -65,6 +66,8 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--device", options->device, "device index or name substring (default: $VKVO_DEVICE or best)");
        sub.add_option("--model", options->model, "model pack for the network benchmarks");
        sub.add_flag("--kernels", options->kernels, "the single-kernel table (default when no network is named)");
+       sub.add_option("--winograd", options->winograd, "SuperPoint's 3x3 convolutions by Winograd F(4x4,3x3)")
+           ->check(CLI::IsMember({"auto", "on", "off"}));
        sub.add_option("--filter", options->filter, "kernel table: only kernels whose name contains this (e.g. gemm)");
        for (const auto& bench : vkvo::app::network_bench_registry())
          sub.add_flag_callback("--" + bench.name, [options, name = bench.name] { options->networks.push_back(name); },

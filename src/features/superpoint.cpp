@@ -9,6 +9,13 @@
 
 namespace vkvo::features {
 
+std::optional<SuperPointParams::Winograd> parse_winograd(std::string_view text) {
+  if (text == "auto") return SuperPointParams::Winograd::automatic;
+  if (text == "on") return SuperPointParams::Winograd::on;
+  if (text == "off") return SuperPointParams::Winograd::off;
+  return std::nullopt;
+}
+
 SuperPointParams load_superpoint_params(const YAML::Node& section) {
   SuperPointParams params;
   io::read_param(section, "keypoint_threshold", params.keypoint_threshold);
@@ -25,6 +32,10 @@ SuperPointParams load_superpoint_params(const YAML::Node& section) {
     throw std::runtime_error(
         fmt::format("config key 'precision': expected auto, fp32, fp16s or fp16, got '{}'", precision));
   }
+  std::string winograd = "auto";
+  io::read_param(section, "winograd", winograd);
+  if (const auto choice = parse_winograd(winograd)) params.winograd = *choice;
+  else throw std::runtime_error(fmt::format("config key 'winograd': expected auto, on or off, got '{}'", winograd));
   if (params.keypoint_threshold < 0.0f)
     throw std::runtime_error("config key 'keypoint_threshold': must be >= 0");
   if (params.nms_radius < 0) throw std::runtime_error("config key 'nms_radius': must be >= 0");
@@ -42,7 +53,7 @@ SuperPoint::SuperPoint(const rt::Context& context, const io::ModelPack& pack, co
     throw std::invalid_argument("SuperPoint: keypoint_threshold and nms_radius must be >= 0");
   if (pack.has("detector_channels") && pack.integer("detector_channels") != 65)
     throw std::runtime_error(fmt::format("model pack '{}': detector_channels must be 65", pack.source()));
-  network_ = std::make_unique<SuperPointNetwork>(context, pack, precision_, params.tiled_kernels);
+  network_ = std::make_unique<SuperPointNetwork>(context, pack, precision_, params.tiled_kernels, params.winograd);
   descriptor_dim_ = static_cast<int>(network_->convs[convDb].out_channels);
 }
 

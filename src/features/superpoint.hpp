@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -30,11 +31,17 @@ struct SuperPointParams {
   // The texel-buffer ("tiled") kernels where the device reads their formats; false runs the storage-buffer
   // kernels every device has (the fallback; tests run the network both ways).
   bool tiled_kernels = true;
+  // Winograd F(4x4, 3x3) (runtime/winograd.hpp) for the 3x3 layers with a multiple of 4 input channels (all but
+  // conv1a): `automatic` where it measured faster, fp32 on CPU devices; `on` wherever the precision is fp32 and the
+  // tiled kernels run; `off` never.
+  enum class Winograd { automatic, on, off } winograd = Winograd::automatic;
 };
 
 // YAML section `point_detector`: keypoint_threshold, nms_radius, remove_borders, max_keypoints,
-// precision (auto | fp32 | fp16s | fp16). Missing keys keep the defaults; wrong types throw naming the key.
+// precision (auto | fp32 | fp16s | fp16), winograd (auto | on | off). Missing keys keep the defaults; wrong types throw naming the key.
 SuperPointParams load_superpoint_params(const YAML::Node& section);
+// "auto", "on", "off"; nullopt for anything else.
+std::optional<SuperPointParams::Winograd> parse_winograd(std::string_view text);
 
 // The network's dense outputs, before NMS (the layout of /work/shared/golden/superpoint/*).
 struct SuperPointDense {

@@ -50,9 +50,14 @@ inline float tolerance(rt::Precision precision, const std::vector<float>& refere
   return 0;
 }
 
+// NaN where any difference is NaN (std::max would skip it), so that EXPECT_LE against a tolerance fails.
 inline float max_abs_diff(const std::vector<float>& a, const std::vector<float>& b) {
   float m = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const float d = std::abs(a[i] - b[i]);
+    if (std::isnan(d)) return d;
+    m = std::max(m, d);
+  }
   return m;
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "common/gpu.hpp"
+#include "conv_reference.hpp"
 #include "kernel_test_util.hpp"
 #include "runtime/context.hpp"
 #include "runtime/ops.hpp"
@@ -11,48 +12,13 @@
 namespace vkvo::rt {
 namespace {
 
+using test::add_border;
 using test::as_stored;
 using test::gpu;
 using test::random_values;
-
-// Plain convolution on unpadded CHW tensors (PyTorch semantics: stride 1, zero padding k/2).
-std::vector<float> reference_conv(const std::vector<float>& in, const std::vector<float>& w, const std::vector<float>& b,
-                                  int ic, int oc, int h, int wd, int k, bool relu) {
-  std::vector<float> out(std::size_t(oc) * h * wd);
-  const int r = k / 2;
-  for (int o = 0; o < oc; ++o)
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < wd; ++x) {
-        double s = b[o];
-        for (int i = 0; i < ic; ++i)
-          for (int ky = 0; ky < k; ++ky)
-            for (int kx = 0; kx < k; ++kx) {
-              const int yy = y + ky - r, xx = x + kx - r;
-              if (yy < 0 || yy >= h || xx < 0 || xx >= wd) continue;
-              s += double(w[((o * ic + i) * k + ky) * k + kx]) * in[(i * h + yy) * wd + xx];
-            }
-        out[(o * h + y) * wd + x] = relu ? std::max(0.0f, float(s)) : float(s);
-      }
-  return out;
-}
-
-// CHW -> the bordered layout of ActivationShape (zero border of `pad`, rows padded to whole texels), and back.
-std::vector<float> add_border(const std::vector<float>& t, int c, int h, int w, int pad) {
-  const ActivationShape shape{std::uint32_t(c), std::uint32_t(h), std::uint32_t(w), std::uint32_t(pad)};
-  std::vector<float> out(shape.elements(), 0.0f);
-  for (int i = 0; i < c; ++i)
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) out[shape.index(i, y, x)] = t[(i * h + y) * w + x];
-  return out;
-}
-std::vector<float> strip_border(const std::vector<float>& t, int c, int h, int w, int pad) {
-  const ActivationShape shape{std::uint32_t(c), std::uint32_t(h), std::uint32_t(w), std::uint32_t(pad)};
-  std::vector<float> out(std::size_t(c) * h * w);
-  for (int i = 0; i < c; ++i)
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) out[(i * h + y) * w + x] = t[shape.index(i, y, x)];
-  return out;
-}
+using test::reference_conv;
+using test::reference_max_pool;
+using test::strip_border;
 
 class Kernels : public ::testing::TestWithParam<Precision> {
  protected:
@@ -118,19 +84,6 @@ TEST_P(Kernels, Conv3x3TiledKernelMatchesReference) {
   check_conv(precision(), {5, 13, 6, 70, 3, 1, 1, true}, 43, Conv3x3Kernel::tiled);
   check_conv(precision(), {64, 65, 11, 19, 3, 1, 1, false}, 44, Conv3x3Kernel::tiled);
   check_conv(precision(), {1, 64, 24, 32, 3, 1, 1, true}, 45, Conv3x3Kernel::tiled);
-}
-
-// PyTorch's max_pool2d(2) on CHW: floor semantics, a last odd row or column is dropped.
-std::vector<float> reference_max_pool(const std::vector<float>& in, int c, int h, int w) {
-  const int oh = h / 2, ow = w / 2;
-  std::vector<float> out(std::size_t(c) * oh * ow);
-  for (int i = 0; i < c; ++i)
-    for (int y = 0; y < oh; ++y)
-      for (int x = 0; x < ow; ++x) {
-        const float* p = &in[(std::size_t(i) * h + 2 * y) * w + 2 * x];
-        out[(std::size_t(i) * oh + y) * ow + x] = std::max(std::max(p[0], p[1]), std::max(p[w], p[w + 1]));
-      }
-  return out;
 }
 
 // The fused conv + max-pool against the reference conv followed by the reference pool. The fused kernel pools

@@ -73,24 +73,31 @@ class SuperPointRandom : public ::testing::TestWithParam<rt::Precision> {
   void SetUp() override {
     if (!gpu().caps().supports(GetParam())) GTEST_SKIP() << gpu().caps().name << " lacks " << rt::to_string(GetParam());
   }
-  void check_dense_outputs(bool tiled_kernels);
+  void check_dense_outputs(bool tiled_kernels, SuperPointParams::Winograd winograd);
 };
 
 // Dense outputs of the whole network against the C++ reference, at a size that is not a multiple of 8, with the
-// texel-buffer kernels (the default where the device reads them) and with the storage-buffer fallback. 30 cells:
-// the tiled detector head's last invocation (4 cells each) is partial.
+// texel-buffer kernels (the default where the device reads them) with and (fp32) without Winograd convolutions,
+// and with the storage-buffer fallback. 30 cells: the tiled detector head's last invocation (4 cells each) is
+// partial; every layer's width leaves a partial 4 x 4 Winograd tile.
 TEST_P(SuperPointRandom, DenseOutputsMatchReference) {
+  using Winograd = SuperPointParams::Winograd;
+  if (GetParam() == rt::Precision::fp32) {
+    SCOPED_TRACE("tiled kernels, Winograd 3x3 convolutions");
+    check_dense_outputs(true, Winograd::on);
+  }
   for (const bool tiled : {true, false}) {
     SCOPED_TRACE(tiled ? "tiled kernels" : "storage-buffer kernels");
-    check_dense_outputs(tiled);
+    check_dense_outputs(tiled, Winograd::off);
   }
 }
 
-void SuperPointRandom::check_dense_outputs(bool tiled_kernels) {
+void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams::Winograd winograd) {
   const auto pack = random_pack(7);
   SuperPointParams params;
   params.precision = GetParam();
   params.tiled_kernels = tiled_kernels;
+  params.winograd = winograd;
   SuperPoint sp(gpu(), pack, params);
   const cv::Mat image = random_image(53, 42, 3);  // -> 6 x 5 cells, dense 48 x 40
   SuperPointDense dense;
@@ -173,7 +180,7 @@ TEST(SuperPointReference, NmsRecoversSecondaryMaxima) {
 TEST(SuperPointParamsTest, LoadsYamlSection) {
   const auto config = io::Config::from_string(
       "point_detector:\n  keypoint_threshold: 0.004\n  nms_radius: 3\n  remove_borders: 8\n  max_keypoints: 500\n"
-      "  precision: fp32\n");
+      "  precision: fp32\n  winograd: off\n");
   const SuperPointParams p = load_superpoint_params(config.section("point_detector"));
   EXPECT_FLOAT_EQ(p.keypoint_threshold, 0.004f);
   EXPECT_EQ(p.nms_radius, 3);
@@ -181,6 +188,7 @@ TEST(SuperPointParamsTest, LoadsYamlSection) {
   EXPECT_EQ(p.max_keypoints, 500);
   ASSERT_TRUE(p.precision.has_value());
   EXPECT_EQ(*p.precision, rt::Precision::fp32);
+  EXPECT_EQ(p.winograd, SuperPointParams::Winograd::off);
 
   const SuperPointParams defaults = load_superpoint_params(YAML::Node());
   EXPECT_FLOAT_EQ(defaults.keypoint_threshold, 0.005f);
@@ -188,10 +196,13 @@ TEST(SuperPointParamsTest, LoadsYamlSection) {
   EXPECT_EQ(defaults.remove_borders, 4);
   EXPECT_EQ(defaults.max_keypoints, 400);
   EXPECT_FALSE(defaults.precision.has_value());
+  EXPECT_EQ(defaults.winograd, SuperPointParams::Winograd::automatic);
 
   EXPECT_THROW(load_superpoint_params(io::Config::from_string("p:\n  nms_radius: abc\n").section("p")),
                std::runtime_error);
   EXPECT_THROW(load_superpoint_params(io::Config::from_string("p:\n  precision: fp8\n").section("p")),
+               std::runtime_error);
+  EXPECT_THROW(load_superpoint_params(io::Config::from_string("p:\n  winograd: yes\n").section("p")),
                std::runtime_error);
 }
 

@@ -62,6 +62,10 @@ rt::Kernel colmax_kernel(const rt::Context& ctx, rt::Precision p, bool texel, st
   return rt::Kernel(ctx, std::move(s));
 }
 
+// The encoder: four levels of two 3x3 conv + ReLU, a 2x2 max-pool between levels.
+constexpr SuperPointLayer kEncoderLevels[4][2] = {
+    {conv1a, conv1b}, {conv2a, conv2b}, {conv3a, conv3b}, {conv4a, conv4b}};
+
 SuperPointConv find_conv(const io::ModelPack& pack, SuperPointLayer layer, rt::Precision precision) {
   const SuperPointConvSpec& expected = kSuperPointArchitecture[layer];
   const io::DType dtype = precision == rt::Precision::fp32 ? io::DType::fp32 : io::DType::fp16;
@@ -86,7 +90,8 @@ NmsKernels::NmsKernels(const rt::Context& ctx, rt::Precision p, bool texel)
       colmax{colmax_kernel(ctx, p, texel, 0), colmax_kernel(ctx, p, texel, 1), colmax_kernel(ctx, p, texel, 2),
              colmax_kernel(ctx, p, texel, 3)} {}
 
-SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack& pack, rt::Precision p, bool tiled)
+SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack& pack, rt::Precision p, bool tiled,
+                                     SuperPointParams::Winograd winograd_choice)
     : precision(p),
       block(ctx, std::max<std::size_t>(pack.data_block().size(), 16), rt::BufferKind::device, "superpoint.weights"),
       conv3x3(ctx, p, 3, tiled ? rt::Conv3x3Kernel::automatic : rt::Conv3x3Kernel::direct),
@@ -110,6 +115,36 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
   for (std::size_t i = 0; i < kSuperPointLayers; ++i)
     convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
   block.upload(pack.data_block().data(), pack.data_block().size());
+
+  // Winograd is fp32 only (runtime/winograd.hpp); `automatic` takes it where it measured faster: on lavapipe
+  // (2 Zen 3 cores) SuperPoint 640x480 ran in 1.72-1.88 s with the direct tiled kernels and 1.19-1.55 s with
+  // Winograd (alternating runs). No GPU has been measured yet, so GPUs keep the direct kernels unless asked.
+  const bool wanted = winograd_choice == SuperPointParams::Winograd::on ||
+                      (winograd_choice == SuperPointParams::Winograd::automatic && ctx.caps().type == "cpu");
+  if (!wanted || p != rt::Precision::fp32 || !detector_head_tiled) return;
+  winograd.emplace(ctx, p);
+  std::vector<float> transformed;
+  for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
+    const SuperPointConv& c = convs[i];
+    if (c.kernel != 3 || c.in_channels % 4 != 0) continue;
+    const auto u = rt::WinogradConv3x3::transform_weights(pack.floats(c.name + ".weight", io::DType::fp32),
+                                                          c.out_channels, c.in_channels);
+    transformed.resize(rt::round_up(transformed.size(), 64));  // 256-byte aligned texel views
+    winograd_offset[i] = transformed.size() * sizeof(float);
+    winograd_bytes[i] = u.size() * sizeof(float);
+    transformed.insert(transformed.end(), u.begin(), u.end());
+  }
+  winograd_block.emplace(ctx, std::max<std::size_t>(transformed.size() * sizeof(float), 16), rt::BufferKind::device,
+                         "superpoint.winograd_weights");
+  winograd_block->upload(std::span<const float>(transformed));
+}
+
+bool SuperPointNetwork::uses_winograd(SuperPointLayer layer, const rt::ActivationShape& in) const {
+  return winograd && winograd_bytes[layer] > 0 && winograd->supports(in, convs[layer].out_channels);
+}
+
+rt::Binding SuperPointNetwork::winograd_weights(SuperPointLayer layer) const {
+  return {*winograd_block, winograd_offset[layer], winograd_bytes[layer]};
 }
 
 rt::Binding SuperPointNetwork::weights(SuperPointLayer layer) const {
@@ -160,7 +195,32 @@ SuperPointPlan::SuperPointPlan(const rt::Context& ctx, const SuperPointNetwork& 
   descriptors_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * dim_ * 4, rt::BufferKind::device,
                             "superpoint.descriptors");
   image_.fill_zero();
+  allocate_winograd_scratch();
   record();
+}
+
+void SuperPointPlan::allocate_winograd_scratch() {
+  if (!net_.winograd) return;
+  // Walk the layers' input shapes as record() does; one pair of buffers serves every Winograd layer.
+  std::size_t input_bytes = 0, products_bytes = 0;
+  const auto need = [&](SuperPointLayer layer, std::uint32_t height, std::uint32_t width) {
+    const rt::ActivationShape in{net_.convs[layer].in_channels, height, width, 1};
+    if (!net_.uses_winograd(layer, in)) return;
+    const std::uint32_t out_channels = net_.convs[layer].out_channels;
+    input_bytes = std::max(input_bytes, net_.winograd->transformed_input_bytes(in, out_channels));
+    products_bytes = std::max(products_bytes, net_.winograd->products_bytes(in, out_channels));
+  };
+  std::uint32_t height = height_, width = width_;
+  for (int level = 0; level < 4; ++level) {
+    need(kEncoderLevels[level][0], height, width);
+    need(kEncoderLevels[level][1], height, width);
+    if (level < 3) height /= 2, width /= 2;
+  }
+  need(convPa, height, width);
+  need(convDa, height, width);
+  if (input_bytes == 0) return;
+  winograd_input_.emplace(context_, input_bytes, rt::BufferKind::device, "superpoint.winograd_input");
+  winograd_products_.emplace(context_, products_bytes, rt::BufferKind::device, "superpoint.winograd_products");
 }
 
 rt::Buffer& SuperPointPlan::activation(const rt::ActivationShape& shape, const std::string& name) {
@@ -187,11 +247,16 @@ void SuperPointPlan::record() {
     const auto& c = net_.convs[layer];
     const rt::ActivationShape out{c.out_channels, in_shape.height, in_shape.width, out_pad};
     rt::Buffer& buffer = activation(out, c.name);
-    const rt::Conv2d& op = c.kernel == 3 ? net_.conv3x3 : net_.conv1x1;
-    op.record(seq_, in, in_shape, net_.weights(layer), net_.bias(layer), buffer, out, relu, c.name);
+    if (net_.uses_winograd(layer, in_shape)) {
+      net_.winograd->record(seq_, in, in_shape, net_.winograd_weights(layer), net_.bias(layer), *winograd_input_,
+                            *winograd_products_, buffer, out, relu, false, c.name);
+    } else {
+      const rt::Conv2d& op = c.kernel == 3 ? net_.conv3x3 : net_.conv1x1;
+      op.record(seq_, in, in_shape, net_.weights(layer), net_.bias(layer), buffer, out, relu, c.name);
+    }
     return {&buffer, out};
   };
-  const SuperPointLayer levels[4][2] = {{conv1a, conv1b}, {conv2a, conv2b}, {conv3a, conv3b}, {conv4a, conv4b}};
+  const auto& levels = kEncoderLevels;
   for (int level = 0; level < 4; ++level) {
     const auto [a, a_shape] = conv(levels[level][0], *x, shape, 1, true);
     if (level == 3) {
@@ -201,12 +266,16 @@ void SuperPointPlan::record() {
     const rt::ActivationShape pooled_shape{net_.convs[levels[level][1]].out_channels, a_shape.height / 2,
                                            a_shape.width / 2, 1};
     rt::Buffer& pooled = activation(pooled_shape, fmt::format("pool{}", level + 1));
-    if (net_.conv_pool) {  // one pass; the full-resolution conv*b output is never stored
-      const auto& c = net_.convs[levels[level][1]];
-      net_.conv_pool->record(seq_, *a, a_shape, net_.weights(levels[level][1]), net_.bias(levels[level][1]), pooled,
-                             pooled_shape, true, fmt::format("{}+pool{}", c.name, level + 1));
+    const SuperPointLayer pooled_layer = levels[level][1];
+    const std::string pooled_label = fmt::format("{}+pool{}", net_.convs[pooled_layer].name, level + 1);
+    if (net_.uses_winograd(pooled_layer, a_shape)) {  // pooled in the output transform
+      net_.winograd->record(seq_, *a, a_shape, net_.winograd_weights(pooled_layer), net_.bias(pooled_layer),
+                            *winograd_input_, *winograd_products_, pooled, pooled_shape, true, true, pooled_label);
+    } else if (net_.conv_pool) {  // one pass; the full-resolution conv*b output is never stored
+      net_.conv_pool->record(seq_, *a, a_shape, net_.weights(pooled_layer), net_.bias(pooled_layer), pooled,
+                             pooled_shape, true, pooled_label);
     } else {
-      const auto [b, b_shape] = conv(levels[level][1], *a, a_shape, 0, true);
+      const auto [b, b_shape] = conv(pooled_layer, *a, a_shape, 0, true);
       net_.pool->record(seq_, *b, b_shape, pooled, 1, fmt::format("pool{}", level + 1));
     }
     x = &pooled;

@@ -6,16 +6,16 @@
 #include <string>
 #include <vector>
 
+#include "features/superpoint.hpp"
 #include "features/superpoint/architecture.hpp"
 #include "io/model_pack.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/kernel.hpp"
 #include "runtime/ops.hpp"
 #include "runtime/sequence.hpp"
+#include "runtime/winograd.hpp"
 
 namespace vkvo::features {
-
-struct SuperPointParams;
 
 // One convolution of the pack: its tensors are ranges of the uploaded data block.
 struct SuperPointConv {
@@ -35,10 +35,14 @@ struct NmsKernels {
 
 struct SuperPointNetwork {
   // `tiled`: use the texel-buffer kernels where the device reads their formats (SuperPointParams::tiled_kernels).
-  SuperPointNetwork(const rt::Context& context, const io::ModelPack& pack, rt::Precision precision, bool tiled);
+  SuperPointNetwork(const rt::Context& context, const io::ModelPack& pack, rt::Precision precision, bool tiled,
+                    SuperPointParams::Winograd winograd);
 
   rt::Binding weights(SuperPointLayer layer) const;
   rt::Binding bias(SuperPointLayer layer) const;
+  // Whether `layer` runs as a Winograd convolution on an input of `in`, and its transformed weights.
+  bool uses_winograd(SuperPointLayer layer, const rt::ActivationShape& in) const;
+  rt::Binding winograd_weights(SuperPointLayer layer) const;
 
   rt::Precision precision;
   std::array<SuperPointConv, kSuperPointLayers> convs;
@@ -54,6 +58,11 @@ struct SuperPointNetwork {
   // Set with the tiled kernels; used for maps of at most max_texel_elements vec4s.
   std::optional<NmsKernels> nms_tiled;
   std::size_t max_texel_elements;
+  // Set where Winograd runs (SuperPointParams::winograd): the op, and the transformed weights of the 3x3 layers
+  // it can take, at 256-byte aligned offsets (texel views) of one buffer.
+  std::optional<rt::WinogradConv3x3> winograd;
+  std::optional<rt::Buffer> winograd_block;
+  std::array<std::size_t, kSuperPointLayers> winograd_offset{}, winograd_bytes{};
 };
 
 // Buffers and the recorded sequence for one image size.
@@ -76,6 +85,7 @@ class SuperPointPlan {
 
  private:
   rt::Buffer& activation(const rt::ActivationShape& shape, const std::string& name);
+  void allocate_winograd_scratch();
   void record();
 
   const rt::Context& context_;
@@ -87,6 +97,8 @@ class SuperPointPlan {
   std::vector<rt::ActivationShape> shapes_;
   rt::Buffer image_, dense_scores_, rows_, mask_, supp_scores_, supp_, candidates_, counter_, order_;
   rt::Buffer dense_descriptors_, keypoints_, scores_, descriptors_;
+  // Scratch of the Winograd layers (transformed input, GEMM products), sized for the largest; empty without.
+  std::optional<rt::Buffer> winograd_input_, winograd_products_;
   rt::Sequence seq_;
 };
 

@@ -1,0 +1,68 @@
+#pragma once
+// 3x3 convolution (stride 1, pad 1) + bias (+ ReLU) (+ 2x2 max-pool) by Winograd's F(4x4, 3x3): an input
+// transform, a batch of 36 GEMMs (one per transformed point: tiles x in_channels times in_channels x out_channels)
+// and an output transform (shaders/winograd_f43_*.comp, shaders/include/winograd_f43.glsl). 4x fewer
+// multiply-adds than the direct convolution, for two extra passes over memory. fp32 only: the transforms scale
+// values by up to 25 (input) and 8 (output) per dimension, more than 16-bit storage's 11 bits can carry within
+// the golden tolerances.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "runtime/buffer.hpp"
+#include "runtime/kernel.hpp"
+#include "runtime/ops.hpp"
+#include "runtime/sequence.hpp"
+
+namespace vkvo::rt {
+
+class WinogradConv3x3 {
+ public:
+  static constexpr std::uint32_t kTile = 4;     // output pixels per tile side
+  static constexpr std::uint32_t kPoints = 36;  // transformed values per tile (6 x 6): the GEMM batch
+
+  // Scratch bytes per band by default: within lavapipe's 128 MiB storage-buffer range and a few times a desktop
+  // CPU's last-level cache. SuperPoint 640x480 measured the same at 32 MiB and 120 MiB bands within this
+  // machine's noise (1.19-1.47 s vs 1.39-1.55 s, alternating runs), so the smaller one.
+  static constexpr std::size_t kDefaultBandBytes = std::size_t(32) << 20;
+
+  // Throws std::invalid_argument unless `precision` is fp32 and the device reads the tiled kernels' texel formats.
+  // `max_band_bytes` is capped by the device's storage-buffer range and texel count.
+  WinogradConv3x3(const Context& context, Precision precision, std::size_t max_band_bytes = kDefaultBandBytes);
+
+  // o4-layout 3x3 weights (runtime/tensor_layout.hpp) -> the GEMMs' B^T operands, U = G g G^T:
+  // [36][round_up(out_channels, 4)][in_channels] floats, padded output channels zero.
+  static std::vector<float> transform_weights(std::span<const float> o4, std::uint32_t out_channels,
+                                              std::uint32_t in_channels);
+
+  // Tiles cover the image in rows of ceil(width / 4); a convolution runs in bands of whole tile rows, so that
+  // each band's scratch fits the device's storage-buffer range and texel count, and the band written by the input
+  // transform is still in cache when its GEMMs read it.
+  static std::uint32_t tiles_x(const ActivationShape& in) { return (in.width + kTile - 1) / kTile; }
+  static std::uint32_t tiles_y(const ActivationShape& in) { return (in.height + kTile - 1) / kTile; }
+  // Tile rows per band (0: not even one row fits).
+  std::uint32_t band_rows(const ActivationShape& in, std::uint32_t out_channels) const;
+  // Bytes of the scratch buffers a convolution of `in` to `out_channels` needs (one band): transformed input and
+  // the GEMMs' products. One pair serves a whole network when sized for its largest layer.
+  std::size_t transformed_input_bytes(const ActivationShape& in, std::uint32_t out_channels) const;
+  std::size_t products_bytes(const ActivationShape& in, std::uint32_t out_channels) const;
+
+  // Whether this op can run a convolution of `in` (1-pixel border, channels a multiple of 4) to `out_channels`
+  // on this device: the input's texel view and one band's scratch must fit the device's limits.
+  bool supports(const ActivationShape& in, std::uint32_t out_channels) const;
+
+  // `weights`: transform_weights() output, bound at a 256-byte aligned offset; `bias`: fp32, padded to 4.
+  // `transformed`, `products`: scratch of at least the sizes above. `out`: in's size, or half of it with
+  // `max_pool` (floor). Records 3 dispatches per band.
+  void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
+              const Binding& bias, const Buffer& transformed, const Buffer& products, const Buffer& output,
+              const ActivationShape& out, bool relu, bool max_pool, const std::string& label) const;
+
+ private:
+  Kernel input_transform_, output_transform_, output_pool_transform_;
+  Gemm gemm_;
+  std::size_t max_texel_elements_;
+  std::size_t max_band_bytes_;  // per scratch buffer
+};
+
+}  // namespace vkvo::rt
