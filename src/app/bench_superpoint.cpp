@@ -52,14 +52,19 @@ void bench_size(features::SuperPoint& sp, int width, int height, int repeat) {
              "{} keypoints\n", rt::to_string(sp.precision()), width, height, ms, repeat, gflop / (ms * 1e-3), gflop,
              keypoints);
   if (labels.empty()) return;
+  // Commands sharing a label (a Winograd layer's bands) are summed into one row, in the order they first ran.
+  std::vector<std::pair<std::string, double>> rows;
   double total = 0;
-  for (const auto& samples : per_command) total += app::median_ms(samples);
-  fmt::print("  {:<28} {:>9} {:>6}\n", "command (GPU timestamps)", "ms", "%");
   for (std::size_t c = 0; c < labels.size(); ++c) {
     const double t = app::median_ms(per_command[c]);
-    fmt::print("  {:<28} {:9.2f} {:5.1f}%\n", labels[c], t, 100.0 * t / total);
+    total += t;
+    const auto row = std::find_if(rows.begin(), rows.end(), [&](const auto& r) { return r.first == labels[c]; });
+    if (row == rows.end()) rows.emplace_back(labels[c], t);
+    else row->second += t;
   }
-  fmt::print("  {:<28} {:9.2f}\n", "sum", total);
+  fmt::print("  {:<32} {:>9} {:>6}\n", "command (GPU timestamps)", "ms", "%");
+  for (const auto& [label, t] : rows) fmt::print("  {:<32} {:9.2f} {:5.1f}%\n", label, t, 100.0 * t / total);
+  fmt::print("  {:<32} {:9.2f}\n", "sum", total);
 }
 
 int run(const rt::Context& context, const app::BenchOptions& options) {
