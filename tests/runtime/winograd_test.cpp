@@ -79,8 +79,8 @@ void check_winograd(const WinogradCase& c, std::uint32_t seed) {
   const auto got = test::strip_border(padded, c.out_c, oh, ow, c.out_pad);
   EXPECT_LE(test::max_abs_diff(got, expected), winograd_tolerance(conv))
       << "winograd conv " << c.in_c << "->" << c.out_c << " at " << c.w << "x" << c.h
-      << (c.max_pool ? " + maxpool" : "") << ", " << WinogradConv3x3::tiles_y(in) / op.band_rows(in, out.channels)
-      << "+ bands";
+      << (c.max_pool ? " + maxpool" : "") << ", " << (WinogradConv3x3::tiles_y(in) + op.band_rows(in, out.channels) - 1) / op.band_rows(in, out.channels)
+      << " band(s)";
   // The border of a padded output must stay zero: the next 3x3 layer reads it as padding.
   if (c.out_pad) {
     const auto interior = test::add_border(got, c.out_c, oh, ow, c.out_pad);
