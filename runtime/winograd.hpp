@@ -3,8 +3,8 @@
 // transform, a batch of 36 GEMMs (one per transformed point: tiles x in_channels times in_channels x out_channels)
 // and an output transform (shaders/winograd_f43_*.comp, shaders/include/winograd_f43.glsl). 4x fewer
 // multiply-adds than the direct convolution, for two extra passes over memory. fp32 only: the transforms scale
-// values by up to 25 (input) and 8 (output) per dimension, more than 16-bit storage's 11 bits can carry within
-// the golden tolerances.
+// values by up to 10 (input: B^T's largest absolute row sum) and 19 (output: A^T's) per dimension, more than
+// 16-bit storage's 11 bits can carry within the golden tolerances.
 #include <cstdint>
 #include <span>
 #include <vector>

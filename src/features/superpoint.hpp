@@ -38,7 +38,8 @@ struct SuperPointParams {
 };
 
 // YAML section `point_detector`: keypoint_threshold, nms_radius, remove_borders, max_keypoints,
-// precision (auto | fp32 | fp16s | fp16), winograd (auto | on | off). Missing keys keep the defaults; wrong types throw naming the key.
+// precision (auto | fp32 | fp16s | fp16), winograd (auto | on | off). Missing keys keep the defaults; wrong types
+// throw naming the key.
 SuperPointParams load_superpoint_params(const YAML::Node& section);
 // "auto", "on", "off"; nullopt for anything else.
 std::optional<SuperPointParams::Winograd> parse_winograd(std::string_view text);

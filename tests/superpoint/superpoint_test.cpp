@@ -1,6 +1,7 @@
 // SuperPoint on the device with random weights (no shared data needed), against the plain C++ reference of
 // superpoint_reference.hpp: the network's dense outputs, each post-processing step (NMS, threshold, border,
 // top-k order, descriptor sampling) on the device's own dense maps, odd image sizes, parameters and errors.
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -10,6 +11,7 @@
 #include "common/gpu.hpp"
 #include "features/superpoint.hpp"
 #include "io/config.hpp"
+#include "runtime/ops.hpp"
 #include "runtime/tensor_layout.hpp"
 #include "superpoint_reference.hpp"
 
@@ -102,6 +104,16 @@ void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams:
   const cv::Mat image = random_image(53, 42, 3);  // -> 6 x 5 cells, dense 48 x 40
   SuperPointDense dense;
   sp.detect(image, &dense);
+  // The per-command labels say which path ran (where the device has timestamps to label).
+  if (gpu().caps().timestamps) {
+    const auto timings = sp.last_timings();
+    const bool ran_winograd = std::any_of(timings.begin(), timings.end(), [](const rt::CommandTiming& t) {
+      return t.label.find("winograd") != std::string::npos;
+    });
+    const bool expected = winograd == SuperPointParams::Winograd::on && GetParam() == rt::Precision::fp32 &&
+                          tiled_kernels && rt::tiled_kernels_available(gpu(), GetParam());
+    EXPECT_EQ(ran_winograd, expected);
+  }
   const reference::Dense ref = reference::forward(pack, image);
   ASSERT_EQ(dense.cells_h, 5);
   ASSERT_EQ(dense.cells_w, 6);

@@ -121,7 +121,7 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
   // Winograd (alternating runs). No GPU has been measured yet, so GPUs keep the direct kernels unless asked.
   const bool wanted = winograd_choice == SuperPointParams::Winograd::on ||
                       (winograd_choice == SuperPointParams::Winograd::automatic && ctx.caps().type == "cpu");
-  if (!wanted || p != rt::Precision::fp32 || !detector_head_tiled) return;
+  if (!wanted || p != rt::Precision::fp32 || !tiled || !rt::tiled_kernels_available(ctx, p)) return;
   winograd.emplace(ctx, p);
   std::vector<float> transformed;
   for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
