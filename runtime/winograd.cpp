@@ -31,10 +31,12 @@ constexpr std::array<std::array<double, 3>, 6> kG{{{1.0 / 4, 0, 0},
                                                   {1.0 / 24, -1.0 / 12, 1.0 / 6},
                                                   {0, 0, 1}}};
 
-KernelSpec transform_spec(const char* op, Precision precision, std::uint32_t bindings, std::uint32_t push_bytes) {
+// The last binding is written; the first `texel_bindings` are read through RGBA texel views.
+KernelSpec transform_spec(const char* op, Precision precision, std::uint32_t bindings, std::uint32_t push_bytes,
+                          std::uint32_t texel_bindings = 1) {
   return {.op = op, .precision = precision, .bindings = bindings, .written_bindings = 1u << (bindings - 1),
           .push_constant_bytes = push_bytes, .specialization = {},
-          .texel_formats = {vec4_texel_format(precision)}};
+          .texel_formats = std::vector<vk::Format>(texel_bindings, vec4_texel_format(precision))};
 }
 
 Precision checked_precision(const Context& context, Precision precision) {
@@ -52,6 +54,7 @@ std::uint32_t blocks_of_4(std::uint32_t channels) { return (channels + 3) / 4; }
 WinogradConv3x3::WinogradConv3x3(const Context& context, Precision precision, std::size_t max_band_bytes)
     : input_transform_(context, transform_spec("winograd_f43_input", checked_precision(context, precision), 2,
                                                sizeof(InputPush))),
+      stem_input_transform_(context, transform_spec("winograd_f43_input_stem", precision, 4, sizeof(InputPush), 2)),
       output_transform_(context, transform_spec("winograd_f43_output", precision, 3, sizeof(OutputPush))),
       output_pool_transform_(context,
                              transform_spec("winograd_f43_output_maxpool", precision, 3, sizeof(OutputPush))),
@@ -108,7 +111,7 @@ bool WinogradConv3x3::supports(const ActivationShape& in, std::uint32_t out_chan
 void WinogradConv3x3::record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
                              const Binding& bias, const Buffer& transformed, const Buffer& products,
                              const Buffer& output, const ActivationShape& out, bool relu, bool max_pool,
-                             const std::string& label) const {
+                             const std::string& label, const Stem* stem) const {
   const std::uint32_t expected_h = max_pool ? in.height / 2 : in.height, expected_w = max_pool ? in.width / 2 : in.width;
   if (out.height != expected_h || out.width != expected_w)
     throw std::invalid_argument(fmt::format("WinogradConv3x3 {}: a {}x{} input gives {}x{}, not {}x{}", label,
@@ -127,9 +130,13 @@ void WinogradConv3x3::record(Sequence& seq, const Buffer& input, const Activatio
   const Binding transformed_band(transformed, 0, input_bytes), products_band(products, 0, product_bytes);
   for (std::uint32_t first_row = 0; first_row < rows; first_row += rows_per_band) {
     const std::uint32_t band_tiles = std::min(rows_per_band, rows - first_row) * columns;
-    seq.dispatch(input_transform_, {input, transformed_band},
-                 InputPush{in.channels, in.height, in.width, columns, band_tiles, first_row},
-                 {groups_for(std::size_t(band_tiles) * (in.channels / 4), kGroup)}, label + " winograd input");
+    const InputPush input_push{in.channels, in.height, in.width, columns, band_tiles, first_row};
+    const Groups input_groups{groups_for(std::size_t(band_tiles) * (in.channels / 4), kGroup)};
+    if (stem)
+      seq.dispatch(stem_input_transform_, {input, stem->weights, stem->bias, transformed_band}, input_push,
+                   input_groups, label + " winograd input+stem");
+    else
+      seq.dispatch(input_transform_, {input, transformed_band}, input_push, input_groups, label + " winograd input");
     const GemmShape shape{.m = band_tiles, .n = out4, .k = in.channels, .b_transposed = true,
                           .batch = kPoints, .a_batch_stride = band_tiles * in.channels,
                           .b_batch_stride = out4 * in.channels, .c_batch_stride = band_tiles * out4};

@@ -51,15 +51,24 @@ class WinogradConv3x3 {
   // on this device: the input's texel view and one band's scratch must fit the device's limits.
   bool supports(const ActivationShape& in, std::uint32_t out_channels) const;
 
+  // A 1-channel 3x3 convolution + bias + ReLU computed inside the input transform (SuperPoint's conv1a before
+  // conv1b), so that its output is never stored: weights in the "o4" layout (in.channels x 1 x 3 x 3), bias fp32
+  // padded to 4.
+  struct Stem {
+    Binding weights, bias;
+  };
+
   // `weights`: transform_weights() output, bound at a 256-byte aligned offset; `bias`: fp32, padded to 4.
   // `transformed`, `products`: scratch of at least the sizes above. `out`: in's size, or half of it with
-  // `max_pool` (floor). Records 3 dispatches per band.
+  // `max_pool` (floor). With a `stem`, `input` is the stem's 1-channel image (1-pixel border, in's size) and `in`
+  // the shape of the stem's output. Records 3 dispatches per band.
   void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
               const Binding& bias, const Buffer& transformed, const Buffer& products, const Buffer& output,
-              const ActivationShape& out, bool relu, bool max_pool, const std::string& label) const;
+              const ActivationShape& out, bool relu, bool max_pool, const std::string& label,
+              const Stem* stem = nullptr) const;
 
  private:
-  Kernel input_transform_, output_transform_, output_pool_transform_;
+  Kernel input_transform_, stem_input_transform_, output_transform_, output_pool_transform_;
   Gemm gemm_;
   std::size_t max_texel_elements_;
   std::size_t max_band_bytes_;  // per scratch buffer

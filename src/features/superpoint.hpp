@@ -32,8 +32,8 @@ struct SuperPointParams {
   // kernels every device has (the fallback; tests run the network both ways).
   bool tiled_kernels = true;
   // Winograd F(4x4, 3x3) (runtime/winograd.hpp) for the 3x3 layers with a multiple of 4 input channels (all but
-  // conv1a): `automatic` where it measured faster, fp32 on CPU devices; `on` wherever the precision is fp32 and the
-  // tiled kernels run; `off` never.
+  // conv1a, which then runs inside conv1b's input transform): `automatic` where it measured faster, fp32 on CPU
+  // devices; `on` wherever the precision is fp32 and the tiled kernels run; `off` never.
   enum class Winograd { automatic, on, off } winograd = Winograd::automatic;
 };
 

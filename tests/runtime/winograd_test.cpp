@@ -23,6 +23,8 @@ struct WinogradCase {
   int in_c, out_c, h, w, out_pad;
   bool relu, max_pool;
   std::size_t max_band_bytes = WinogradConv3x3::kDefaultBandBytes;
+  // The input is the ReLU'd output of a 1-channel 3x3 convolution of an image, computed in the input transform.
+  bool stem = false;
 };
 
 // The transforms are exact in exact arithmetic; in fp32 they scale intermediate values by up to 10 (B^T's rows
@@ -47,7 +49,11 @@ std::vector<float> with_nan_row_padding(std::vector<float> bordered, const Activ
 
 void check_winograd(const WinogradCase& c, std::uint32_t seed) {
   auto& ctx = gpu();
-  const auto input = test::random_values(std::size_t(c.in_c) * c.h * c.w, seed);
+  const auto image = test::random_values(std::size_t(c.h) * c.w, seed + 3, 0.0f, 1.0f);
+  const auto stem_weights = test::random_values(std::size_t(c.in_c) * 9, seed + 4, -0.5f, 0.5f);
+  const auto stem_bias = test::random_values(c.in_c, seed + 5, -0.2f, 0.2f);
+  const auto input = c.stem ? test::reference_conv(image, stem_weights, stem_bias, 1, c.in_c, c.h, c.w, 3, true)
+                            : test::random_values(std::size_t(c.in_c) * c.h * c.w, seed);
   const auto weights = test::random_values(std::size_t(c.out_c) * c.in_c * 9, seed + 1, -0.5f, 0.5f);
   const auto bias = test::random_values(c.out_c, seed + 2);
   const auto conv = test::reference_conv(input, weights, bias, c.in_c, c.out_c, c.h, c.w, 3, c.relu);
@@ -57,7 +63,13 @@ void check_winograd(const WinogradCase& c, std::uint32_t seed) {
   const ActivationShape in{std::uint32_t(c.in_c), std::uint32_t(c.h), std::uint32_t(c.w), 1};
   const ActivationShape out{std::uint32_t(c.out_c), std::uint32_t(oh), std::uint32_t(ow), std::uint32_t(c.out_pad)};
   const Precision fp32 = Precision::fp32;
-  auto in_buf = test::upload_tensor(ctx, with_nan_row_padding(test::add_border(input, c.in_c, c.h, c.w, 1), in), fp32);
+  const ActivationShape image_shape{1, std::uint32_t(c.h), std::uint32_t(c.w), 1};
+  auto in_buf = c.stem ? test::upload_tensor(ctx, with_nan_row_padding(test::add_border(image, 1, c.h, c.w, 1), image_shape), fp32)
+                       : test::upload_tensor(ctx, with_nan_row_padding(test::add_border(input, c.in_c, c.h, c.w, 1), in), fp32);
+  auto stem_w_buf = test::upload_tensor(ctx, pack_conv_o4(stem_weights, c.in_c, 1, 3, 3), fp32);
+  Buffer stem_b_buf(ctx, round_up(c.in_c, 4) * sizeof(float));
+  stem_b_buf.upload(std::span<const float>(pad_bias_o4(stem_bias)));
+  const WinogradConv3x3::Stem stem{Binding(stem_w_buf), Binding(stem_b_buf)};
   const auto transformed_weights = WinogradConv3x3::transform_weights(
       pack_conv_o4(weights, c.out_c, c.in_c, 3, 3), std::uint32_t(c.out_c), std::uint32_t(c.in_c));
   auto w_buf = test::upload_tensor(ctx, transformed_weights, fp32);
@@ -72,13 +84,14 @@ void check_winograd(const WinogradCase& c, std::uint32_t seed) {
 
   Sequence seq(ctx);
   seq.begin();
-  op.record(seq, in_buf, in, w_buf, b_buf, transformed, products, out_buf, out, c.relu, c.max_pool, "conv");
+  op.record(seq, in_buf, in, w_buf, b_buf, transformed, products, out_buf, out, c.relu, c.max_pool, "conv",
+            c.stem ? &stem : nullptr);
   seq.end();
   seq.submit();
   const auto padded = test::download_tensor(out_buf, out.elements(), fp32);
   const auto got = test::strip_border(padded, c.out_c, oh, ow, c.out_pad);
   EXPECT_LE(test::max_abs_diff(got, expected), winograd_tolerance(conv))
-      << "winograd conv " << c.in_c << "->" << c.out_c << " at " << c.w << "x" << c.h
+      << "winograd conv " << (c.stem ? "(after a 1-channel stem) " : "") << c.in_c << "->" << c.out_c << " at " << c.w << "x" << c.h
       << (c.max_pool ? " + maxpool" : "") << ", " << (WinogradConv3x3::tiles_y(in) + op.band_rows(in, out.channels) - 1) / op.band_rows(in, out.channels)
       << " band(s)";
   // The border of a padded output must stay zero: the next 3x3 layer reads it as padding.
@@ -116,6 +129,15 @@ TEST(WinogradConv3x3, MaxPoolMatchesConvolutionThenPool) {
   check_winograd({64, 64, 14, 18, 1, true, true}, 71);
   check_winograd({8, 12, 11, 13, 1, false, true}, 72);
   check_winograd({4, 4, 6, 22, 0, true, true}, 73);
+}
+
+// The stem (SuperPoint's conv1a) computed in the input transform: image sizes with partial tiles, the pool, bands,
+// and NaN in the image's row padding.
+TEST(WinogradConv3x3, StemInTheInputTransformMatchesTwoConvolutions) {
+  if (!winograd_available()) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
+  check_winograd({64, 64, 13, 29, 1, true, false, WinogradConv3x3::kDefaultBandBytes, true}, 91);
+  check_winograd({8, 12, 22, 18, 1, true, true, WinogradConv3x3::kDefaultBandBytes, true}, 92);
+  check_winograd({8, 8, 30, 17, 1, true, true, 36 * 5 * 8 * sizeof(float) * 2, true}, 93);  // 2 tile rows a band
 }
 
 // U = G g G^T: a filter with only its centre tap gives the outer product of G's middle column with itself, placed at

@@ -258,7 +258,13 @@ void SuperPointPlan::record() {
   };
   const auto& levels = kEncoderLevels;
   for (int level = 0; level < 4; ++level) {
-    const auto [a, a_shape] = conv(levels[level][0], *x, shape, 1, true);
+    // Where conv1b runs as Winograd, conv1a (1 -> 64 channels) is computed inside its input transform: the
+    // full-resolution 64-channel activation is never stored nor read back.
+    const SuperPointConv& first = net_.convs[levels[level][0]];
+    const rt::ActivationShape first_out{first.out_channels, shape.height, shape.width, 1};
+    const bool stem = level == 0 && first.kernel == 3 && first.in_channels == 1 &&
+                      net_.uses_winograd(levels[level][1], first_out);
+    const auto [a, a_shape] = stem ? std::pair{x, first_out} : conv(levels[level][0], *x, shape, 1, true);
     if (level == 3) {
       std::tie(x, shape) = conv(levels[level][1], *a, a_shape, 1, true);
       break;
@@ -269,8 +275,10 @@ void SuperPointPlan::record() {
     const SuperPointLayer pooled_layer = levels[level][1];
     const std::string pooled_label = fmt::format("{}+pool{}", net_.convs[pooled_layer].name, level + 1);
     if (net_.uses_winograd(pooled_layer, a_shape)) {  // pooled in the output transform
+      const rt::WinogradConv3x3::Stem conv1a{net_.weights(levels[level][0]), net_.bias(levels[level][0])};
       net_.winograd->record(seq_, *a, a_shape, net_.winograd_weights(pooled_layer), net_.bias(pooled_layer),
-                            *winograd_input_, *winograd_products_, pooled, pooled_shape, true, true, pooled_label);
+                            *winograd_input_, *winograd_products_, pooled, pooled_shape, true, true, pooled_label,
+                            stem ? &conv1a : nullptr);
     } else if (net_.conv_pool) {  // one pass; the full-resolution conv*b output is never stored
       net_.conv_pool->record(seq_, *a, a_shape, net_.weights(pooled_layer), net_.bias(pooled_layer), pooled,
                              pooled_shape, true, pooled_label);

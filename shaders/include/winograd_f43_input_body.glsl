@@ -1,0 +1,72 @@
+// Winograd F(4x4, 3x3) input transform (winograd_f43.glsl), shared by winograd_f43_input.comp (the window read
+// from an activation) and winograd_f43_input_stem.comp (the window computed from an image by a 1-channel 3x3
+// convolution). Each invocation takes the 6 x 6 window of one tile in 4 channels and writes its 36 transformed
+// values, V[point][tile][channel], so that the GEMM of each point reads a tile's channels as whole texels (A,
+// M = tiles x K = channels). Consecutive invocations take consecutive channel blocks of a tile, so that
+// neighbouring lanes store neighbouring addresses: with lanes walking tiles instead (256 bytes apart at 64
+// channels) SuperPoint 640x480 took 1.42 s instead of 1.14 s on lavapipe (one run each; storing a quarter of the
+// components measured no faster, so it is the scattered addresses, not the number of stores).
+//
+// Tile (ty, tx) covers output rows 4ty .. 4ty + 3 and columns 4tx .. 4tx + 3; its window is rows 4ty - 1 ..
+// 4ty + 4 and columns 4tx - 1 .. 4tx + 4 of the convolution's input (padded rows and columns 4ty .. 4ty + 5 and
+// 4tx .. 4tx + 5 of a 1-pixel bordered tensor). Window values outside the image are zero: the convolution's
+// padding, and whatever lies past the bordered tensor is no pixel (the transforms would carry it into every output
+// of the tile, a NaN poisoning them all).
+//
+// Define before inclusion: TRANSFORMED_BINDING, the binding of the output buffer. The including shader defines
+// main() with load_window() of its own and calls store_transformed().
+#extension GL_EXT_control_flow_attributes : require
+#include "precision.glsl"
+#include "tensor.glsl"
+#include "winograd_f43.glsl"
+
+layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
+
+layout(std430, binding = TRANSFORMED_BINDING) writeonly buffer Transformed { svec4 transformed[]; };
+
+layout(push_constant) uniform Params {
+  uint channels;  // of the transformed tensor, a multiple of 4
+  uint height;    // of the image
+  uint width;
+  uint tiles_x;
+  uint tiles;           // of this band
+  uint first_tile_row;  // of this band
+} p;
+
+struct TileBlock {
+  uint tile;   // in the band
+  uint block;  // channels 4 block .. 4 block + 3
+  uint ty, tx;
+};
+
+// This invocation's tile and channel block; false past the band.
+bool tile_block(out TileBlock t) {
+  const uint blocks = p.channels / 4u;
+  t.tile = gl_GlobalInvocationID.x / blocks;
+  t.block = gl_GlobalInvocationID.x - t.tile * blocks;
+  const uint band_row = t.tile / p.tiles_x;
+  t.tx = t.tile - band_row * p.tiles_x;
+  t.ty = p.first_tile_row + band_row;
+  return t.tile < p.tiles;
+}
+
+// Whether window position (r, x) of tile t lies on the image (else it is the convolution's zero padding).
+bool on_image(const TileBlock t, uint r, uint x) {
+  const uint y = t.ty * kWinogradTile + r, column = t.tx * kWinogradTile + x;  // padded coordinates
+  return y >= 1u && y <= p.height && column >= 1u && column <= p.width;
+}
+
+// B^T d B of the window d[r][x] (one component per channel), stored at V[point][tile][channel block].
+void store_transformed(const TileBlock t, const vec4 d[6][6]) {
+  vec4 columns[6][6];  // columns[i][x] = (B^T d)[i][x]
+  [[unroll]] for (uint x = 0; x < kWinogradInput; ++x) {
+    const vec4 c[6] = winograd_f43_input_1d(vec4[6](d[0][x], d[1][x], d[2][x], d[3][x], d[4][x], d[5][x]));
+    [[unroll]] for (uint i = 0; i < kWinogradInput; ++i) columns[i][x] = c[i];
+  }
+  const uint blocks = p.channels / 4u;
+  [[unroll]] for (uint i = 0; i < kWinogradInput; ++i) {
+    const vec4 c[6] = winograd_f43_input_1d(columns[i]);
+    [[unroll]] for (uint j = 0; j < kWinogradInput; ++j)
+      transformed[((i * kWinogradInput + j) * p.tiles + t.tile) * blocks + t.block] = svec4(c[j]);
+  }
+}
