@@ -275,10 +275,10 @@ void SuperPointPlan::record() {
     const SuperPointLayer pooled_layer = levels[level][1];
     const std::string pooled_label = fmt::format("{}+pool{}", net_.convs[pooled_layer].name, level + 1);
     if (net_.uses_winograd(pooled_layer, a_shape)) {  // pooled in the output transform
-      const rt::WinogradConv3x3::Stem conv1a{net_.weights(levels[level][0]), net_.bias(levels[level][0])};
+      const rt::WinogradConv3x3::Stem first_conv{net_.weights(levels[level][0]), net_.bias(levels[level][0])};
       net_.winograd->record(seq_, *a, a_shape, net_.winograd_weights(pooled_layer), net_.bias(pooled_layer),
                             *winograd_input_, *winograd_products_, pooled, pooled_shape, true, true, pooled_label,
-                            stem ? &conv1a : nullptr);
+                            stem ? &first_conv : nullptr);
     } else if (net_.conv_pool) {  // one pass; the full-resolution conv*b output is never stored
       net_.conv_pool->record(seq_, *a, a_shape, net_.weights(pooled_layer), net_.bias(pooled_layer), pooled,
                              pooled_shape, true, pooled_label);
