@@ -47,7 +47,6 @@ Precision checked_precision(const Context& context, Precision precision) {
   return precision;
 }
 
-std::uint32_t blocks_of_4(std::uint32_t channels) { return (channels + 3) / 4; }
 
 }  // namespace
 
@@ -144,7 +143,7 @@ void WinogradConv3x3::record(Sequence& seq, const Buffer& input, const Activatio
     seq.dispatch(max_pool ? output_pool_transform_ : output_transform_, {products_band, bias, output},
                  OutputPush{out.channels, in.height, in.width, columns, band_tiles, first_row, out.pad,
                             relu ? 1u : 0u},
-                 {groups_for(std::size_t(band_tiles) * blocks_of_4(out.channels), kGroup)},
+                 {groups_for(std::size_t(band_tiles) * groups_for(out.channels, 4), kGroup)},
                  label + " winograd output");
   }
 }

@@ -10,6 +10,25 @@ const uint kWinogradTile = 4;    // output pixels per tile side
 const uint kWinogradInput = 6;   // input pixels per tile side (tile + 2)
 const uint kWinogradPoints = 36; // transformed values per tile: the GEMM batch
 
+// The tile and the block of 4 channels an invocation of a transform takes: consecutive invocations take consecutive
+// channel blocks of one tile (neighbouring lanes then read or write neighbouring addresses). Tiles are numbered
+// row by row within a band of tile rows starting at first_tile_row.
+struct WinogradTileBlock {
+  uint tile;   // in the band
+  uint block;  // channels 4 block .. 4 block + 3
+  uint ty, tx;
+};
+
+WinogradTileBlock winograd_tile_block(uint invocation, uint blocks, uint tiles_x, uint first_tile_row) {
+  WinogradTileBlock t;
+  t.tile = invocation / blocks;
+  t.block = invocation - t.tile * blocks;
+  const uint band_row = t.tile / tiles_x;
+  t.tx = t.tile - band_row * tiles_x;
+  t.ty = first_tile_row + band_row;
+  return t;
+}
+
 // B^T d for one column (or row) of 6 input values. B^T rows: [4 0 -5 0 1 0], [0 -4 -4 1 1 0], [0 4 -4 -1 1 0],
 // [0 -2 -1 2 1 0], [0 2 -1 -2 1 0], [0 4 0 -5 0 1].
 vec4[6] winograd_f43_input_1d(const vec4 d[6]) {

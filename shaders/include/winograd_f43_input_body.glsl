@@ -33,20 +33,11 @@ layout(push_constant) uniform Params {
   uint first_tile_row;  // of this band
 } p;
 
-struct TileBlock {
-  uint tile;   // in the band
-  uint block;  // channels 4 block .. 4 block + 3
-  uint ty, tx;
-};
+#define TileBlock WinogradTileBlock
 
 // This invocation's tile and channel block; false past the band.
 bool tile_block(out TileBlock t) {
-  const uint blocks = p.channels / 4u;
-  t.tile = gl_GlobalInvocationID.x / blocks;
-  t.block = gl_GlobalInvocationID.x - t.tile * blocks;
-  const uint band_row = t.tile / p.tiles_x;
-  t.tx = t.tile - band_row * p.tiles_x;
-  t.ty = p.first_tile_row + band_row;
+  t = winograd_tile_block(gl_GlobalInvocationID.x, p.channels / 4u, p.tiles_x, p.first_tile_row);
   return t.tile < p.tiles;
 }
 

@@ -29,11 +29,9 @@ layout(push_constant) uniform Params {
 
 void main() {
   const uint blocks = (p.channels + 3u) / 4u;
-  const uint tile = gl_GlobalInvocationID.x / blocks;
-  const uint block = gl_GlobalInvocationID.x - tile * blocks;  // output channels 4 block .. 4 block + 3
-  if (tile >= p.tiles) return;
-  const uint band_row = tile / p.tiles_x, tx = tile - band_row * p.tiles_x;
-  const uint ty = p.first_tile_row + band_row;
+  const WinogradTileBlock at = winograd_tile_block(gl_GlobalInvocationID.x, blocks, p.tiles_x, p.first_tile_row);
+  if (at.tile >= p.tiles) return;
+  const uint tile = at.tile, block = at.block, ty = at.ty, tx = at.tx;
 
   // A^T M A: the columns, then the rows.
   vec4 rows[4][6];  // rows[a][j] = (A^T M)[a][j]
