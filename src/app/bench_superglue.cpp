@@ -16,22 +16,6 @@ namespace {
 
 using namespace vkvo;
 
-features::PointFeatures random_set(std::size_t n, int dim, std::mt19937& rng) {
-  features::PointFeatures f;
-  f.image_width = 752;
-  f.image_height = 480;
-  std::uniform_real_distribution<float> ux(0.0f, 752.0f), uy(0.0f, 480.0f), us(0.0f, 1.0f);
-  std::normal_distribution<float> nd(0.0f, 1.0f);
-  f.descriptors.resize(Eigen::Index(n), dim);
-  for (std::size_t i = 0; i < n; ++i) {
-    f.keypoints.emplace_back(ux(rng), uy(rng));
-    f.scores.push_back(us(rng));
-    for (int c = 0; c < dim; ++c) f.descriptors(Eigen::Index(i), c) = nd(rng);
-    f.descriptors.row(Eigen::Index(i)).normalize();
-  }
-  return f;
-}
-
 // "self attn q.k" -> "attn q.k": stages summed over layers.
 std::string stage_of(const std::string& label) {
   for (const char* prefix : {"self ", "cross "})
@@ -53,7 +37,7 @@ int run(const rt::Context& context, const app::BenchOptions& options) {
     fmt::print("{:>6} {:>10} {:>10} {:>9} {:>10} {:>9}\n", "N=M", "wall ms", "gpu ms", "GFLOP", "GFLOP/s", "matches");
     std::mt19937 rng(1);
     for (std::size_t n : {200u, 400u, 1000u}) {
-      const auto a = random_set(n, dim, rng);
+      const auto a = features::random_point_features(n, dim, rng, 752, 480);
       auto b = a;  // the same points, slightly perturbed: a realistic share of matches
       std::normal_distribution<float> noise(0.0f, 0.05f);
       for (Eigen::Index i = 0; i < b.descriptors.rows(); ++i) {

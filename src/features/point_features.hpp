@@ -1,6 +1,8 @@
 #pragma once
 // Keypoints of one image as the point networks produce and consume them.
+#include <cstddef>
 #include <cstdint>
+#include <random>
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,5 +30,9 @@ struct PointMatches {
     return n;
   }
 };
+
+// `n` keypoints uniform over a width x height image with uniform scores in [0, 1) and Gaussian descriptors of
+// `dim` channels normalised to unit length (not sorted by score): the input of the matcher benchmarks and tests.
+PointFeatures random_point_features(std::size_t n, int dim, std::mt19937& rng, int width, int height);
 
 }  // namespace vkvo::features

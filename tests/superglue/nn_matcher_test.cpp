@@ -105,5 +105,29 @@ TEST(NnMatcher, LoadsYamlSection) {
   EXPECT_THROW(load_nn_matcher_params(YAML::Load("{ratio: abc}")), std::runtime_error);
 }
 
+TEST(RandomPointFeatures, AreUnitDescriptorsInsideTheImageAndRepeatWithTheSeed) {
+  std::mt19937 rng(5), same_seed(5);
+  const PointFeatures f = random_point_features(50, 16, rng, 100, 40);
+  ASSERT_EQ(f.size(), 50u);
+  ASSERT_EQ(f.scores.size(), 50u);
+  ASSERT_EQ(f.descriptors.rows(), 50);
+  ASSERT_EQ(f.descriptors.cols(), 16);
+  EXPECT_EQ(f.image_width, 100);
+  EXPECT_EQ(f.image_height, 40);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    EXPECT_GE(f.keypoints[i].x(), 0.0f);
+    EXPECT_LT(f.keypoints[i].x(), 100.0f);
+    EXPECT_GE(f.keypoints[i].y(), 0.0f);
+    EXPECT_LT(f.keypoints[i].y(), 40.0f);
+    EXPECT_GE(f.scores[i], 0.0f);
+    EXPECT_LT(f.scores[i], 1.0f);
+    EXPECT_NEAR(f.descriptors.row(Eigen::Index(i)).norm(), 1.0f, 1e-5f);  // float rounding of the normalisation
+  }
+  const PointFeatures again = random_point_features(50, 16, same_seed, 100, 40);
+  EXPECT_EQ(again.descriptors, f.descriptors);
+  EXPECT_EQ(again.keypoints, f.keypoints);
+  EXPECT_TRUE(random_point_features(0, 16, rng, 100, 40).descriptors.size() == 0);
+}
+
 }  // namespace
 }  // namespace vkvo::features

@@ -209,22 +209,10 @@ inline io::ModelPack random_superglue_pack(const RandomSuperGlueSpec& spec) {
   return io::ModelPack::parse(bytes, io::NetworkKind::superglue, "random superglue pack");
 }
 
-// Random unit descriptors; the second set holds noisy copies of some of the first set's (a known matching).
+// Random unit descriptors (features::random_point_features) at SuperPoint's VGA size unless told otherwise.
 inline features::PointFeatures random_features(std::size_t n, int dim, std::mt19937& rng, int width = 640,
                                                int height = 480) {
-  features::PointFeatures f;
-  f.image_width = width;
-  f.image_height = height;
-  std::uniform_real_distribution<float> ux(0.0f, float(width)), uy(0.0f, float(height)), us(0.0f, 1.0f);
-  std::normal_distribution<float> nd(0.0f, 1.0f);
-  f.descriptors.resize(Eigen::Index(n), dim);
-  for (std::size_t i = 0; i < n; ++i) {
-    f.keypoints.emplace_back(ux(rng), uy(rng));
-    f.scores.push_back(us(rng));
-    for (int c = 0; c < dim; ++c) f.descriptors(Eigen::Index(i), c) = nd(rng);
-    f.descriptors.row(Eigen::Index(i)).normalize();
-  }
-  return f;
+  return features::random_point_features(n, dim, rng, width, height);
 }
 
 }  // namespace vkvo::test
