@@ -31,7 +31,7 @@ struct GemmPush {
 constexpr std::uint32_t kGemmRows = 3;
 // GemmPush::flags, as in shaders/gemm.comp and gemm_tiled.comp (vec4 K/N: gemm.comp only).
 constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGemmAccumulate = 8, kGemmVec4K = 16,
-                        kGemmVec4N = 32;
+                        kGemmVec4N = 32, kGemmRowBias = 64;
 
 // Output channels and pixels per invocation of conv3x3_tiled.comp (and pixels of conv1x1_tiled.comp).
 constexpr std::uint32_t kTiledConvChannels = 8, kTiledConvPixels = 4, kTiledConvRows = 3;
@@ -250,7 +250,8 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   const std::uint32_t lda = leading_a(s), ldb = leading_b(s), ldc = leading_c(s);
   const Binding bindings[] = {a, b, bias ? *bias : Binding(dummy_bias_), c};
   std::uint32_t flags = (s.b_transposed ? kGemmTransposedB : 0u) | (bias ? kGemmBias : 0u) |
-                        (s.relu ? kGemmRelu : 0u) | (s.accumulate ? kGemmAccumulate : 0u);
+                        (s.relu ? kGemmRelu : 0u) | (s.accumulate ? kGemmAccumulate : 0u) |
+                        (s.bias_per_row ? kGemmRowBias : 0u);
   const bool tiled = uses_tiled_kernel(s, a, b);
   const Kernel* kernel = &kernel_;
   Groups groups;
@@ -272,6 +273,13 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
                       s.a_batch_stride, s.b_batch_stride, s.c_batch_stride, flags, s.alpha};
   seq.dispatch(*kernel, bindings, &push, sizeof(push), groups,
                label.empty() ? fmt::format("gemm {}x{}x{}", s.m, s.n, s.k) : std::move(label));
+}
+
+GemmShape conv1x1_gemm_shape(const ActivationShape& in, std::uint32_t out_channels, bool relu) {
+  if (in.pad != 0) throw std::invalid_argument("conv1x1_gemm_shape: the input planes must have no border");
+  const auto pixels = static_cast<std::uint32_t>(in.plane());
+  return {.m = out_channels, .n = pixels, .k = in.channels, .b_transposed = false, .relu = relu,
+          .bias_per_row = true};
 }
 
 }  // namespace vkvo::rt

@@ -105,6 +105,7 @@ struct GemmShape {
   bool relu = false;
   float alpha = 1.0f;
   bool accumulate = false;  // C += result (residual connections); ReLU, if any, applies to the sum
+  bool bias_per_row = false;  // the bias holds one value per row of C (M), e.g. a 1x1 convolution's per channel
   std::uint32_t lda = 0, ldb = 0, ldc = 0;
   std::uint32_t a_offset = 0, b_offset = 0, c_offset = 0;
   std::uint32_t batch = 1;
@@ -127,7 +128,7 @@ class Gemm {
   Gemm(const Context& context, Precision precision, GemmKernel choice = GemmKernel::automatic);
   // Whether a call with this shape and these bindings runs the tiled kernel.
   bool uses_tiled_kernel(const GemmShape& shape, const Binding& a, const Binding& b) const;
-  // `bias` (N floats, fp32) may be null.
+  // `bias` (N floats, fp32; M with GemmShape::bias_per_row) may be null.
   void record(Sequence& seq, const Buffer& a, const Buffer& b, const Buffer* bias, const Buffer& c,
               const GemmShape& shape, std::string label = {}) const;
   // Same with the bias bound at a byte offset of a larger buffer (weights of a model pack uploaded as one block).
@@ -148,5 +149,11 @@ class Gemm {
   std::uint32_t elements_per_texel_;  // of gemm_tiled.comp's operand views
   Buffer dummy_bias_;
 };
+
+// A 1x1 convolution (+ bias per output channel, + ReLU) on planes without a border, as one GEMM over the planes:
+// out (O x H*W) = W (O x I) * in (I x H*W) + bias, with W row-major (unpack_conv_o4 of the layer's weights) as A,
+// the input as B and the output as C. conv1x1_tiled.comp reads one pixel per texel fetch; the tiled GEMM reads 4
+// and fetches fewer texels per multiply-add (SuperPoint uses it for convDb on CPU devices).
+GemmShape conv1x1_gemm_shape(const ActivationShape& in, std::uint32_t out_channels, bool relu);
 
 }  // namespace vkvo::rt

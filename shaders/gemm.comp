@@ -22,6 +22,7 @@ layout(std430, binding = 2) readonly buffer Bias { float bias[]; };
 layout(std430, binding = 3) buffer MatC { sfloat c[]; };
 
 const uint kTransposedB = 1u, kBias = 2u, kRelu = 4u, kAccumulate = 8u, kVec4K = 16u, kVec4N = 32u;
+const uint kRowBias = 64u;  // with kBias: one bias per row of C (M values) instead of per column
 
 layout(push_constant) uniform Params {
   uint m, n, k;
@@ -77,12 +78,14 @@ void main() {
       for (uint i = 0; i < ROWS; ++i) acc[i] += vec4(afloat(a[rows[i] + kk]) * bv);
     }
   }
+  const bool row_bias = (p.flags & (kBias | kRowBias)) == (kBias | kRowBias);
   vec4 bias4 = vec4(0);
-  if ((p.flags & kBias) != 0u) bias4 = vec4(bias[cols[0]], bias[cols[1]], bias[cols[2]], bias[cols[3]]);
+  if ((p.flags & kBias) != 0u && !row_bias) bias4 = vec4(bias[cols[0]], bias[cols[1]], bias[cols[2]], bias[cols[3]]);
   const uint c_base = p.c_offset + batch * p.c_batch;
   for (uint i = 0; i < ROWS && m0 + i < p.m; ++i) {
     const uint row = c_base + (m0 + i) * p.ldc;
     vec4 v = p.alpha * acc[i] + bias4;
+    if (row_bias) v += bias[m0 + i];
     for (uint j = 0; j < 4u && n0 + j < p.n; ++j) {
       float x = v[j];
       if ((p.flags & kAccumulate) != 0u) x += float(c[row + n0 + j]);

@@ -61,6 +61,7 @@ layout(std430, binding = 3) buffer MatC { sfloat c[]; };
 layout(std430, binding = 3) buffer MatC4 { svec4 c4[]; };
 
 const uint kTransposedB = 1u, kBias = 2u, kRelu = 4u, kAccumulate = 8u;
+const uint kRowBias = 64u;  // with kBias: one bias per row of C (M values) instead of per column
 
 layout(push_constant) uniform Params {
   uint m, n, k;
@@ -161,16 +162,20 @@ void main() {
   // constants, or the compiler turns it into a memory array that every FMA of the K loop reads and writes
   // (lavapipe then stores it lane by lane under the execution mask, which made this kernel 2-3x slower).
   const uint c_base = p.c_offset + batch * p.c_batch;
+  const bool row_bias = (p.flags & (kBias | kRowBias)) == (kBias | kRowBias);
+  float bias_of_row[kRows];
+  [[unroll]] for (uint i = 0; i < kRows; ++i) bias_of_row[i] = 0.0;
+  if (row_bias) [[unroll]] for (uint i = 0; i < kRows; ++i) bias_of_row[i] = bias[min(m0 + i, p.m - 1u)];
   [[unroll]] for (uint h = 0; h < kColVecs; ++h) {
     const uint col = n0 + 4u * h;
     if (col < p.n) {
       vec4 bias4 = vec4(0);
-      if ((p.flags & kBias) != 0u)
+      if ((p.flags & kBias) != 0u && !row_bias)
         [[unroll]] for (uint j = 0; j < 4u; ++j) bias4[j] = bias[min(col + j, p.n - 1u)];
       [[unroll]] for (uint i = 0; i < kRows; ++i) {
         if (m0 + i < p.m) {
           const uint at = c_base + (m0 + i) * p.ldc + col;
-          vec4 v = p.alpha * acc[i][h] + bias4;
+          vec4 v = p.alpha * acc[i][h] + bias4 + bias_of_row[i];
           if (kVec4Store) {  // whole aligned vec4: one store
             if ((p.flags & kAccumulate) != 0u) v += vec4(c4[at / 4u]);
             if ((p.flags & kRelu) != 0u) v = max(v, 0.0);

@@ -1,5 +1,8 @@
 // The first kernels (conv3x3 + bias + ReLU, conv1x1, 2x2 max-pool, GEMM) against plain C++ references on random
 // data, in every precision the device supports, at sizes that are not multiples of the workgroup tiles.
+#include <array>
+#include <stdexcept>
+
 #include <gtest/gtest.h>
 
 #include "common/gpu.hpp"
@@ -184,6 +187,50 @@ TEST_P(Kernels, Conv1x1MatchesReference) {
   check_conv(precision(), {8, 12, 7, 9, 1, 1, 1, true}, 26);                 // conv1x1.comp where it would not run
 }
 
+TEST(TensorLayout, UnpackConvO4InvertsPackConvO4) {
+  for (const auto [o, i, k] : {std::array{5, 3, 3}, std::array{8, 4, 1}, std::array{65, 7, 1}}) {
+    const auto oihw = random_values(std::size_t(o) * i * k * k, 61);
+    EXPECT_EQ(unpack_conv_o4(pack_conv_o4(oihw, o, i, k, k), o, i, k, k), oihw) << o << "x" << i << "x" << k;
+  }
+  EXPECT_THROW(unpack_conv_o4(std::vector<float>(10), 5, 2, 1, 1), std::invalid_argument);
+}
+
+// A 1x1 convolution as a GEMM over its planes (conv1x1_gemm_shape), with whichever GEMM kernel the shape takes
+// (the tiled one where planes and channels fill whole texels, as SuperPoint's convDb does), against the same
+// reference as the convolution kernels.
+TEST_P(Kernels, Conv1x1AsGemmMatchesReference) {
+  auto& ctx = gpu();
+  for (const auto [in_c, out_c, h, w] : {std::array{64, 36, 6, 8}, std::array{16, 9, 5, 7}}) {
+    const bool relu = in_c == 64;
+    const auto input = as_stored(random_values(std::size_t(in_c) * h * w, 62), precision());
+    const auto weights = as_stored(random_values(std::size_t(out_c) * in_c, 63, -0.5f, 0.5f), precision());
+    const auto bias = random_values(out_c, 64);
+    const auto expected = reference_conv(input, weights, bias, in_c, out_c, h, w, 1, relu);
+    const ActivationShape in{std::uint32_t(in_c), std::uint32_t(h), std::uint32_t(w), 0};
+    auto in_buf = test::upload_tensor(ctx, input, precision());
+    auto w_buf = test::upload_tensor(
+        ctx, unpack_conv_o4(pack_conv_o4(weights, out_c, in_c, 1, 1), out_c, in_c, 1, 1), precision());
+    Buffer b_buf(ctx, bias.size() * sizeof(float));
+    b_buf.upload(std::span<const float>(bias));
+    Buffer out_buf(ctx, expected.size() * storage_bytes(precision()));
+    const Gemm gemm(ctx, precision());
+    const GemmShape shape = conv1x1_gemm_shape(in, std::uint32_t(out_c), relu);
+    const bool tiled = gemm.uses_tiled_kernel(shape, Binding(w_buf), Binding(in_buf));
+    if (in_c == 64) {
+      EXPECT_EQ(tiled, tiled_kernels_available(ctx, precision())) << "48-pixel planes fill whole texels";
+    }
+    Sequence seq(ctx);
+    seq.begin();
+    gemm.record(seq, w_buf, in_buf, &b_buf, out_buf, shape);
+    seq.end();
+    seq.submit();
+    const auto got = test::download_tensor(out_buf, expected.size(), precision());
+    EXPECT_LE(test::max_abs_diff(got, expected), test::tolerance(precision(), expected))
+        << in_c << "->" << out_c << " at " << w << "x" << h << (tiled ? ", tiled GEMM" : ", direct GEMM");
+  }
+  EXPECT_THROW(conv1x1_gemm_shape(ActivationShape{8, 4, 4, 1}, 8, false), std::invalid_argument);
+}
+
 TEST(Conv2d, Conv1x1UsesTheTiledKernelForMultiplesOfFourInputChannels) {
   const Conv2d conv(gpu(), Precision::fp32, 1);
   const bool available = tiled_kernels_available(gpu(), Precision::fp32);
@@ -217,14 +264,14 @@ void check_gemm(Precision precision, GemmShape s, bool with_bias, std::uint32_t 
   auto& ctx = gpu();
   const auto a = as_stored(random_values(std::size_t(s.m) * s.k, seed), precision);
   const auto b = as_stored(random_values(std::size_t(s.k) * s.n, seed + 1), precision);
-  const auto bias = random_values(s.n, seed + 2);
+  const auto bias = random_values(s.bias_per_row ? s.m : s.n, seed + 2);
   std::vector<float> expected(std::size_t(s.m) * s.n);
   for (std::uint32_t i = 0; i < s.m; ++i)
     for (std::uint32_t j = 0; j < s.n; ++j) {
       double acc = 0;
       for (std::uint32_t k = 0; k < s.k; ++k)
         acc += double(a[i * s.k + k]) * (s.b_transposed ? b[j * s.k + k] : b[k * s.n + j]);
-      float v = s.alpha * float(acc) + (with_bias ? bias[j] : 0.0f);
+      float v = s.alpha * float(acc) + (with_bias ? bias[s.bias_per_row ? i : j] : 0.0f);
       expected[i * s.n + j] = s.relu ? std::max(v, 0.0f) : v;
     }
   auto a_buf = test::upload_tensor(ctx, a, precision);
@@ -251,6 +298,7 @@ TEST_P(Kernels, GemmMatchesReference) {
   check_gemm(precision(), {.m = 37, .n = 70, .k = 129, .b_transposed = false}, true, 41);
   check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true, 42);
   check_gemm(precision(), {.m = 1, .n = 1, .k = 3, .b_transposed = true}, false, 43);
+  check_gemm(precision(), {.m = 11, .n = 24, .k = 8, .b_transposed = false, .bias_per_row = true}, true, 44);
 }
 
 // The tiled kernel with either tile (4 x 8 or 8 x 16 blocks of C, operands through texel buffers of 4 fp32 or
@@ -269,6 +317,9 @@ TEST_P(Kernels, GemmTiledKernelMatchesReference) {
                54, tiled);
     check_gemm(precision(), {.m = 9, .n = 13, .k = per_texel, .b_transposed = true}, false, 55, tiled);
     check_gemm(precision(), {.m = 3, .n = per_texel, .k = 2 * per_texel, .b_transposed = false}, true, 56, tiled);
+    // One bias per row (a 1x1 convolution's per output channel), with a partial row group.
+    check_gemm(precision(), {.m = 19, .n = 3 * per_texel, .k = 16, .b_transposed = false, .bias_per_row = true}, true,
+               57, tiled);
   }
 }
 

@@ -75,13 +75,14 @@ class SuperPointRandom : public ::testing::TestWithParam<rt::Precision> {
   void SetUp() override {
     if (!gpu().caps().supports(GetParam())) GTEST_SKIP() << gpu().caps().name << " lacks " << rt::to_string(GetParam());
   }
-  void check_dense_outputs(bool tiled_kernels, SuperPointParams::Winograd winograd);
+  void check_dense_outputs(bool tiled_kernels, SuperPointParams::Winograd winograd, int width = 53, int height = 42);
 };
 
 // Dense outputs of the whole network against the C++ reference, at a size that is not a multiple of 8, with the
 // texel-buffer kernels (the default where the device reads them) with and (fp32) without Winograd convolutions,
 // and with the storage-buffer fallback. 30 cells: the tiled detector head's last invocation (4 cells each) is
-// partial; every layer's width leaves a partial 4 x 4 Winograd tile.
+// partial; every layer's width leaves a partial 4 x 4 Winograd tile; convDb's planes do not fill whole texels, so
+// it runs conv1x1_tiled. 40 cells fill them: convDb then runs as a GEMM on CPU devices.
 TEST_P(SuperPointRandom, DenseOutputsMatchReference) {
   using Winograd = SuperPointParams::Winograd;
   if (GetParam() == rt::Precision::fp32) {
@@ -92,16 +93,19 @@ TEST_P(SuperPointRandom, DenseOutputsMatchReference) {
     SCOPED_TRACE(tiled ? "tiled kernels" : "storage-buffer kernels");
     check_dense_outputs(tiled, Winograd::off);
   }
+  SCOPED_TRACE("tiled kernels, 8 x 5 cells");
+  check_dense_outputs(true, Winograd::automatic, 67, 42);
 }
 
-void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams::Winograd winograd) {
+void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams::Winograd winograd, int width,
+                                           int height) {
   const auto pack = random_pack(7);
   SuperPointParams params;
   params.precision = GetParam();
   params.tiled_kernels = tiled_kernels;
   params.winograd = winograd;
   SuperPoint sp(gpu(), pack, params);
-  const cv::Mat image = random_image(53, 42, 3);  // -> 6 x 5 cells, dense 48 x 40
+  const cv::Mat image = random_image(width, height, 3);  // 53 x 42 -> 6 x 5 cells, dense 48 x 40
   SuperPointDense dense;
   sp.detect(image, &dense);
   // The per-command labels say which path ran (where the device has timestamps to label).
@@ -110,19 +114,27 @@ void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams:
     const bool ran_winograd = std::any_of(timings.begin(), timings.end(), [](const rt::CommandTiming& t) {
       return t.label.find("winograd") != std::string::npos;
     });
-    const bool expected = winograd == SuperPointParams::Winograd::on && GetParam() == rt::Precision::fp32 &&
-                          tiled_kernels && rt::tiled_kernels_available(gpu(), GetParam());
-    EXPECT_EQ(ran_winograd, expected);
+    const bool tiled = tiled_kernels && rt::tiled_kernels_available(gpu(), GetParam());
+    const bool cpu = gpu().caps().type == "cpu";
+    const bool winograd_expected = tiled && GetParam() == rt::Precision::fp32 &&
+                                   (winograd == SuperPointParams::Winograd::on ||
+                                    (winograd == SuperPointParams::Winograd::automatic && cpu));
+    EXPECT_EQ(ran_winograd, winograd_expected);
+    const bool ran_gemm = std::any_of(timings.begin(), timings.end(), [](const rt::CommandTiming& t) {
+      return t.label == "convDb gemm";
+    });
+    const std::size_t cells = std::size_t(width / 8) * (height / 8);
+    EXPECT_EQ(ran_gemm, tiled && cpu && cells % 8 == 0) << "convDb as a GEMM on CPU devices, planes of whole texels";
   }
   const reference::Dense ref = reference::forward(pack, image);
-  ASSERT_EQ(dense.cells_h, 5);
-  ASSERT_EQ(dense.cells_w, 6);
+  ASSERT_EQ(dense.cells_h, height / 8);
+  ASSERT_EQ(dense.cells_w, width / 8);
   ASSERT_EQ(dense.scores.size(), ref.scores.size());
   const Tolerance tol = tolerance(GetParam());
   float max_err = 0;
   for (std::size_t i = 0; i < ref.scores.size(); ++i) max_err = std::max(max_err, std::abs(ref.scores[i] - dense.scores[i]));
   EXPECT_LE(max_err, tol.score_abs);
-  const std::size_t cells = 30;
+  const std::size_t cells = std::size_t(dense.cells_h) * dense.cells_w;
   for (std::size_t cell = 0; cell < cells; ++cell) {
     double ab = 0, aa = 0, bb = 0;
     for (std::size_t c = 0; c < 256; ++c) {

@@ -10,6 +10,7 @@
 
 #include "features/superpoint.hpp"
 #include "runtime/context.hpp"
+#include "runtime/half.hpp"
 #include "runtime/tensor_layout.hpp"
 
 namespace vkvo::features {
@@ -116,6 +117,28 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
     convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
   block.upload(pack.data_block().data(), pack.data_block().size());
 
+  // 1x1 layers as GEMMs on CPU devices (rt::conv1x1_gemm_shape): convDb at 640x480 took 65-85 ms in
+  // conv1x1_tiled.comp, which reads one pixel per texel fetch, and 29-35 ms as a tiled GEMM (kernel benchmark,
+  // alternating runs, 2 Zen 3 cores). GPUs keep conv1x1_tiled until measured. The GEMM reads the weights as an
+  // O x I matrix, so those layers get a row-major copy.
+  if (tiled && rt::tiled_kernels_available(ctx, p) && ctx.caps().type == "cpu") {
+    std::vector<std::byte> matrices;
+    for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
+      const SuperPointConv& c = convs[i];
+      if (c.kernel != 1) continue;
+      const auto o4 = pack.floats(c.name + ".weight", io::DType::fp32);
+      const auto bytes = rt::encode_storage(rt::unpack_conv_o4(o4, c.out_channels, c.in_channels, 1, 1), p);
+      matrices.resize(rt::round_up(matrices.size(), 256));  // texel views start at 256-byte aligned offsets
+      conv1x1_matrix_offset[i] = matrices.size();
+      conv1x1_matrix_bytes[i] = bytes.size();
+      matrices.insert(matrices.end(), bytes.begin(), bytes.end());
+    }
+    conv1x1_gemm.emplace(ctx, p);
+    conv1x1_matrices.emplace(ctx, std::max<std::size_t>(matrices.size(), 16), rt::BufferKind::device,
+                             "superpoint.conv1x1_matrices");
+    conv1x1_matrices->upload(matrices.data(), matrices.size());
+  }
+
   // Winograd is fp32 only (runtime/winograd.hpp); `automatic` takes it where it measured faster: on lavapipe
   // (2 Zen 3 cores) SuperPoint 640x480 ran in 1.72-1.88 s with the direct tiled kernels and 1.19-1.55 s with
   // Winograd (alternating runs). No GPU has been measured yet, so GPUs keep the direct kernels unless asked.
@@ -137,6 +160,19 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
   winograd_block.emplace(ctx, std::max<std::size_t>(transformed.size() * sizeof(float), 16), rt::BufferKind::device,
                          "superpoint.winograd_weights");
   winograd_block->upload(std::span<const float>(transformed));
+}
+
+std::optional<rt::GemmShape> SuperPointNetwork::conv1x1_as_gemm(SuperPointLayer layer, const rt::Buffer& input,
+                                                                const rt::ActivationShape& in, std::uint32_t out_pad,
+                                                                bool relu) const {
+  if (!conv1x1_gemm || conv1x1_matrix_bytes[layer] == 0 || in.pad != 0 || out_pad != 0) return std::nullopt;
+  const rt::GemmShape shape = rt::conv1x1_gemm_shape(in, convs[layer].out_channels, relu);
+  if (!conv1x1_gemm->uses_tiled_kernel(shape, conv1x1_matrix(layer), rt::Binding(input))) return std::nullopt;
+  return shape;
+}
+
+rt::Binding SuperPointNetwork::conv1x1_matrix(SuperPointLayer layer) const {
+  return {*conv1x1_matrices, conv1x1_matrix_offset[layer], conv1x1_matrix_bytes[layer]};
 }
 
 bool SuperPointNetwork::uses_winograd(SuperPointLayer layer, const rt::ActivationShape& in) const {
@@ -250,6 +286,10 @@ void SuperPointPlan::record() {
     if (net_.uses_winograd(layer, in_shape)) {
       net_.winograd->record(seq_, in, in_shape, net_.winograd_weights(layer), net_.bias(layer), *winograd_input_,
                             *winograd_products_, buffer, out, relu, false, c.name);
+    } else if (const auto gemm = net_.conv1x1_as_gemm(layer, in, in_shape, out_pad, relu)) {
+      const rt::Binding bias = net_.bias(layer);
+      net_.conv1x1_gemm->record(seq_, net_.conv1x1_matrix(layer), rt::Binding(in), &bias, rt::Binding(buffer), *gemm,
+                                c.name + " gemm");
     } else {
       const rt::Conv2d& op = c.kernel == 3 ? net_.conv3x3 : net_.conv1x1;
       op.record(seq_, in, in_shape, net_.weights(layer), net_.bias(layer), buffer, out, relu, c.name);

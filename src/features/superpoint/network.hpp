@@ -2,6 +2,7 @@
 // Internals of features::SuperPoint: the uploaded weights, the pipelines of every op, and the per-image-size plan
 // (activation buffers + the recorded sequence).
 #include <array>
+#include <optional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -42,6 +43,10 @@ struct SuperPointNetwork {
   rt::Binding bias(SuperPointLayer layer) const;
   // Whether `layer` runs as a Winograd convolution on an input of `in`, and its transformed weights.
   bool uses_winograd(SuperPointLayer layer, const rt::ActivationShape& in) const;
+  // The GEMM that computes 1x1 `layer` on `input` (shape `in`), where it runs as one (conv1x1_gemm below).
+  std::optional<rt::GemmShape> conv1x1_as_gemm(SuperPointLayer layer, const rt::Buffer& input,
+                                               const rt::ActivationShape& in, std::uint32_t out_pad, bool relu) const;
+  rt::Binding conv1x1_matrix(SuperPointLayer layer) const;
   rt::Binding winograd_weights(SuperPointLayer layer) const;
 
   rt::Precision precision;
@@ -63,6 +68,11 @@ struct SuperPointNetwork {
   std::optional<rt::WinogradConv3x3> winograd;
   std::optional<rt::Buffer> winograd_block;
   std::array<std::size_t, kSuperPointLayers> winograd_offset{}, winograd_bytes{};
+  // Set on CPU devices with the tiled kernels: the GEMM that runs the 1x1 layers on borderless planes, and their
+  // weights as O x I matrices at the storage precision, at 256-byte aligned offsets of one buffer.
+  std::optional<rt::Gemm> conv1x1_gemm;
+  std::optional<rt::Buffer> conv1x1_matrices;
+  std::array<std::size_t, kSuperPointLayers> conv1x1_matrix_offset{}, conv1x1_matrix_bytes{};
 };
 
 // Buffers and the recorded sequence for one image size.
