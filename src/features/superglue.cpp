@@ -19,6 +19,7 @@ namespace vkvo::features {
 namespace {
 
 constexpr std::size_t kAlign = 256;  // bytes: >= minStorageBufferOffsetAlignment everywhere
+constexpr std::uint32_t kAttentionRows = 8;  // query rows per invocation of superglue_attention_tiled.comp
 
 std::size_t align_up(std::size_t v, std::size_t a) { return (v + a - 1) / a * a; }
 
@@ -174,7 +175,8 @@ struct SuperGlue::Impl {
         attention_tiled_kernel.emplace(
             ctx, rt::KernelSpec{.op = "superglue_attention_tiled", .precision = precision, .bindings = 2,
                                 .written_bindings = 1u << 1, .push_constant_bytes = 24,
-                                .specialization = {head_dim / 4}, .texel_formats = {rt::vec4_texel_format(precision)}});
+                                .specialization = {head_dim / 4, kAttentionRows},
+                                .texel_formats = {rt::vec4_texel_format(precision)}});
       if (config.descriptor_dim % 4 == 0)
         scores_tiled_kernel.emplace(
             ctx, rt::KernelSpec{.op = "superglue_scores_tiled", .precision = precision, .bindings = 2,
@@ -364,7 +366,7 @@ struct SuperGlue::Impl {
         float scale;
       } push{rows_a, rows_s, first_a, first_s, dim, 1.0f / std::sqrt(float(head_dim))};
       seq->dispatch(*attention_tiled_kernel, {rt::Binding(*qkv), rt::Binding(*state)}, push,
-                    {rt::groups_for(rt::groups_for(rows_a, 4), 16), heads, 1}, label);
+                    {rt::groups_for(rt::groups_for(rows_a, kAttentionRows), 16), heads, 1}, label);
       return;
     }
     const std::uint32_t keys = padded_keys(rows_s);  // score row stride
