@@ -7,9 +7,12 @@
 // of A (one texel each) and the kPerTexel x COLS slice of op(B) (COLS texels, the same for every lane of a
 // workgroup): at 4 x 8, 12 texel fetches for 128 multiply-adds in fp32 (256 in 16-bit storage), where gemm.comp
 // makes 7 storage-buffer loads for 48; at 8 x 16, 24 fetches for 512. Operands are read through uniform texel
-// buffers: lavapipe gathers texels with vector loads, where it loads storage buffers one lane at a time (and
-// uniform buffers too, even at offsets fixed at compile time: op(B) from a uniform buffer with every loop unrolled
-// measured 5-7x slower in Mesa 22.3).
+// buffers: lavapipe gathers texels with vector loads, where it loads storage buffers one lane at a time. A
+// uniform-buffer load is one bounds-checked scalar load broadcast to the lanes, but only where Mesa 22.3 can prove
+// the offset uniform: constants and push constants, not a loop counter (there it gathers lane by lane). So op(B)
+// from a uniform buffer needs the K loop unrolled, and that straight-line body measured 2x slower than the same
+// body reading texels, and 5x slower than this kernel: LLVM schedules its thousands of loads early and spills
+// nearly everything (half the JIT code is stack moves).
 //
 // The wide tile is for CPU drivers. On lavapipe the texel fetches take most of the time (perf on the JIT code:
 // 60 % in the two fetch functions at 4 x 8), and A's cost more than op(B)'s, since every lane reads other rows
