@@ -59,7 +59,8 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
   std::vector<BenchResult> results;
   const auto name = std::string(rt::to_string(precision));
 
-  // Convolutions at SuperPoint's shapes for a 752x480 input (the 64->64 layer at 376x240 is the figure).
+  // Convolutions at SuperPoint's shapes for a 752x480 input (the 64->64 layer at 376x240 is the figure), and
+  // convDb at 640x480 (256->256 @80x60), to compare with its GEMM form below.
   struct ConvCase {
     std::uint32_t in_c, out_c, h, w, k;
   };
@@ -68,7 +69,8 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
   std::vector<rt::Conv3x3Kernel> kernels3x3{rt::Conv3x3Kernel::direct};
   if (rt::tiled_kernels_available(ctx, precision)) kernels3x3.insert(kernels3x3.begin(), rt::Conv3x3Kernel::tiled);
   for (const ConvCase c : {ConvCase{64, 64, 240, 376, 3}, ConvCase{1, 64, 480, 752, 3}, ConvCase{64, 64, 480, 752, 3},
-                           ConvCase{128, 256, 60, 94, 3}, ConvCase{256, 65, 60, 94, 1}}) {
+                           ConvCase{128, 256, 60, 94, 3}, ConvCase{256, 65, 60, 94, 1},
+                           ConvCase{256, 256, 60, 80, 1}}) {
     for (const rt::Conv3x3Kernel kernel : c.k == 3 ? kernels3x3 : std::vector{rt::Conv3x3Kernel::automatic}) {
       const char* suffix = c.k == 1 ? "" : kernel == rt::Conv3x3Kernel::tiled ? " tiled" : " direct";
       const auto kernel_name = fmt::format("conv{}x{} {}->{} @{}x{}{}", c.k, c.k, c.in_c, c.out_c, c.w, c.h, suffix);
@@ -161,10 +163,12 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     results.push_back({kernel_name, name, ms, 0, double(in.elements()) * 1.25 * elem / (ms * 1e6)});
   }
 
-  // GEMMs at SuperGlue's shapes for 400 keypoints: a projection (B^T = weight) and attention scores.
+  // GEMMs at SuperGlue's shapes for 400 keypoints: a projection (B^T = weight) and attention scores; and SuperPoint's
+  // convDb at 640x480 as a GEMM over its 80 x 60 planes (rt::conv1x1_gemm_shape), to compare with the conv1x1 row.
   for (const rt::GemmShape s : {rt::GemmShape{.m = 400, .n = 256, .k = 256, .b_transposed = true},
                                 rt::GemmShape{.m = 400, .n = 400, .k = 64, .b_transposed = true},
-                                rt::GemmShape{.m = 1000, .n = 512, .k = 512, .b_transposed = true}}) {
+                                rt::GemmShape{.m = 1000, .n = 512, .k = 512, .b_transposed = true},
+                                rt::conv1x1_gemm_shape(rt::ActivationShape{256, 60, 80, 0}, 256, false)}) {
     const auto kernel_name = fmt::format("gemm {}x{}x{}{}", s.m, s.n, s.k, s.b_transposed ? " B^T" : "");
     if (!wanted(kernel_name)) continue;
     rt::Buffer a(ctx, std::size_t(s.m) * s.k * rt::storage_bytes(precision));

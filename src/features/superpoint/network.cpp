@@ -117,10 +117,10 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
     convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
   block.upload(pack.data_block().data(), pack.data_block().size());
 
-  // 1x1 layers as GEMMs on CPU devices (rt::conv1x1_gemm_shape): convDb at 640x480 took 65-85 ms in
-  // conv1x1_tiled.comp, which reads one pixel per texel fetch, and 29-35 ms as a tiled GEMM (kernel benchmark,
-  // alternating runs, 2 Zen 3 cores). GPUs keep conv1x1_tiled until measured. The GEMM reads the weights as an
-  // O x I matrix, so those layers get a row-major copy.
+  // 1x1 layers as GEMMs on CPU devices (rt::conv1x1_gemm_shape): convDb at 640x480 takes 68-78 ms in
+  // conv1x1_tiled.comp, which reads one pixel per texel fetch, and 29-33 ms as a tiled GEMM (`vkvo bench --kernels
+  // --filter 256`, three alternating runs on 2 Zen 3 cores). GPUs keep conv1x1_tiled until measured. The GEMM reads
+  // the weights as an O x I matrix, so those layers get a row-major copy.
   if (tiled && rt::tiled_kernels_available(ctx, p) && ctx.caps().type == "cpu") {
     std::vector<std::byte> matrices;
     for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
