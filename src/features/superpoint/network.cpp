@@ -122,21 +122,15 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
   // --filter 256`, three alternating runs on 2 Zen 3 cores). GPUs keep conv1x1_tiled until measured. The GEMM reads
   // the weights as an O x I matrix, so those layers get a row-major copy.
   if (tiled && rt::tiled_kernels_available(ctx, p) && ctx.caps().type == "cpu") {
-    std::vector<std::byte> matrices;
     for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
       const SuperPointConv& c = convs[i];
       if (c.kernel != 1) continue;
       const auto o4 = pack.floats(c.name + ".weight", io::DType::fp32);
-      const auto bytes = rt::encode_storage(rt::unpack_conv_o4(o4, c.out_channels, c.in_channels, 1, 1), p);
-      matrices.resize(rt::round_up(matrices.size(), 256));  // texel views start at 256-byte aligned offsets
-      conv1x1_matrix_offset[i] = matrices.size();
-      conv1x1_matrix_bytes[i] = bytes.size();
-      matrices.insert(matrices.end(), bytes.begin(), bytes.end());
+      conv1x1_matrices.add(static_cast<SuperPointLayer>(i),
+                           rt::encode_storage(rt::unpack_conv_o4(o4, c.out_channels, c.in_channels, 1, 1), p));
     }
+    conv1x1_matrices.upload(ctx, "superpoint.conv1x1_matrices");
     conv1x1_gemm.emplace(ctx, p);
-    conv1x1_matrices.emplace(ctx, std::max<std::size_t>(matrices.size(), 16), rt::BufferKind::device,
-                             "superpoint.conv1x1_matrices");
-    conv1x1_matrices->upload(matrices.data(), matrices.size());
   }
 
   // Winograd is fp32 only (runtime/winograd.hpp); `automatic` takes it where it measured faster: on lavapipe
@@ -146,41 +140,53 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
                       (winograd_choice == SuperPointParams::Winograd::automatic && ctx.caps().type == "cpu");
   if (!wanted || p != rt::Precision::fp32 || !tiled || !rt::tiled_kernels_available(ctx, p)) return;
   winograd.emplace(ctx, p);
-  std::vector<float> transformed;
   for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
     const SuperPointConv& c = convs[i];
     if (c.kernel != 3 || c.in_channels % 4 != 0) continue;
     const auto u = rt::WinogradConv3x3::transform_weights(pack.floats(c.name + ".weight", io::DType::fp32),
                                                           c.out_channels, c.in_channels);
-    transformed.resize(rt::round_up(transformed.size(), 64));  // 256-byte aligned texel views
-    winograd_offset[i] = transformed.size() * sizeof(float);
-    winograd_bytes[i] = u.size() * sizeof(float);
-    transformed.insert(transformed.end(), u.begin(), u.end());
+    winograd_filters.add(static_cast<SuperPointLayer>(i), std::as_bytes(std::span<const float>(u)));
   }
-  winograd_block.emplace(ctx, std::max<std::size_t>(transformed.size() * sizeof(float), 16), rt::BufferKind::device,
-                         "superpoint.winograd_weights");
-  winograd_block->upload(std::span<const float>(transformed));
+  winograd_filters.upload(ctx, "superpoint.winograd_weights");
+}
+
+void DerivedLayerTensors::add(SuperPointLayer layer, std::span<const std::byte> bytes) {
+  staged_.resize(rt::round_up(staged_.size(), 256));
+  offset_[layer] = staged_.size();
+  bytes_[layer] = bytes.size();
+  staged_.insert(staged_.end(), bytes.begin(), bytes.end());
+}
+
+void DerivedLayerTensors::upload(const rt::Context& context, const std::string& name) {
+  buffer_.emplace(context, std::max<std::size_t>(staged_.size(), 16), rt::BufferKind::device, name);
+  buffer_->upload(staged_.data(), staged_.size());
+  staged_ = {};
+}
+
+rt::Binding DerivedLayerTensors::binding(SuperPointLayer layer) const {
+  if (!has(layer) || !buffer_) throw std::logic_error("DerivedLayerTensors: no uploaded tensor for this layer");
+  return {*buffer_, offset_[layer], bytes_[layer]};
 }
 
 std::optional<rt::GemmShape> SuperPointNetwork::conv1x1_as_gemm(SuperPointLayer layer, const rt::Buffer& input,
                                                                 const rt::ActivationShape& in, std::uint32_t out_pad,
                                                                 bool relu) const {
-  if (!conv1x1_gemm || conv1x1_matrix_bytes[layer] == 0 || in.pad != 0 || out_pad != 0) return std::nullopt;
+  if (!conv1x1_gemm || !conv1x1_matrices.has(layer) || in.pad != 0 || out_pad != 0) return std::nullopt;
   const rt::GemmShape shape = rt::conv1x1_gemm_shape(in, convs[layer].out_channels, relu);
   if (!conv1x1_gemm->uses_tiled_kernel(shape, conv1x1_matrix(layer), rt::Binding(input))) return std::nullopt;
   return shape;
 }
 
 rt::Binding SuperPointNetwork::conv1x1_matrix(SuperPointLayer layer) const {
-  return {*conv1x1_matrices, conv1x1_matrix_offset[layer], conv1x1_matrix_bytes[layer]};
+  return conv1x1_matrices.binding(layer);
 }
 
 bool SuperPointNetwork::uses_winograd(SuperPointLayer layer, const rt::ActivationShape& in) const {
-  return winograd && winograd_bytes[layer] > 0 && winograd->supports(in, convs[layer].out_channels);
+  return winograd && winograd_filters.has(layer) && winograd->supports(in, convs[layer].out_channels);
 }
 
 rt::Binding SuperPointNetwork::winograd_weights(SuperPointLayer layer) const {
-  return {*winograd_block, winograd_offset[layer], winograd_bytes[layer]};
+  return winograd_filters.binding(layer);
 }
 
 rt::Binding SuperPointNetwork::weights(SuperPointLayer layer) const {

@@ -3,6 +3,7 @@
 // (activation buffers + the recorded sequence).
 #include <array>
 #include <optional>
+#include <span>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,6 +33,22 @@ struct NmsKernels {
   NmsKernels(const rt::Context& context, rt::Precision precision, bool texel);
   rt::Kernel rowmax;
   std::array<rt::Kernel, 4> colmax;
+};
+
+// Tensors derived from the pack when it is loaded, at most one per layer (Winograd filters, 1x1 weight matrices),
+// in one device buffer at 256-byte aligned offsets (texel views start there).
+class DerivedLayerTensors {
+ public:
+  void add(SuperPointLayer layer, std::span<const std::byte> bytes);
+  // After the last add(): creates the buffer and uploads what was added.
+  void upload(const rt::Context& context, const std::string& name);
+  bool has(SuperPointLayer layer) const { return bytes_[layer] > 0; }
+  rt::Binding binding(SuperPointLayer layer) const;
+
+ private:
+  std::vector<std::byte> staged_;
+  std::optional<rt::Buffer> buffer_;
+  std::array<std::size_t, kSuperPointLayers> offset_{}, bytes_{};
 };
 
 struct SuperPointNetwork {
@@ -64,15 +81,13 @@ struct SuperPointNetwork {
   std::optional<NmsKernels> nms_tiled;
   std::size_t max_texel_elements;
   // Set where Winograd runs (SuperPointParams::winograd): the op, and the transformed weights of the 3x3 layers
-  // it can take, at 256-byte aligned offsets (texel views) of one buffer.
+  // it can take.
   std::optional<rt::WinogradConv3x3> winograd;
-  std::optional<rt::Buffer> winograd_block;
-  std::array<std::size_t, kSuperPointLayers> winograd_offset{}, winograd_bytes{};
+  DerivedLayerTensors winograd_filters;
   // Set on CPU devices with the tiled kernels: the GEMM that runs the 1x1 layers on borderless planes, and their
-  // weights as O x I matrices at the storage precision, at 256-byte aligned offsets of one buffer.
+  // weights as O x I matrices at the storage precision.
   std::optional<rt::Gemm> conv1x1_gemm;
-  std::optional<rt::Buffer> conv1x1_matrices;
-  std::array<std::size_t, kSuperPointLayers> conv1x1_matrix_offset{}, conv1x1_matrix_bytes{};
+  DerivedLayerTensors conv1x1_matrices;
 };
 
 // Buffers and the recorded sequence for one image size.
