@@ -19,7 +19,16 @@ namespace vkvo::features {
 namespace {
 
 constexpr std::size_t kAlign = 256;  // bytes: >= minStorageBufferOffsetAlignment everywhere
-constexpr std::uint32_t kAttentionRows = 8;  // query rows per invocation of superglue_attention_tiled.comp
+
+// Query rows per invocation of superglue_attention_tiled.comp unless the caller chose: 8 on CPU devices, where the
+// key and value fetches then serve twice the multiply-adds (measured there); GPUs keep the 4 they had until one is
+// measured, since 8 doubles what each invocation holds (query rows and accumulators, 2 x rows x head_dim floats).
+std::uint32_t attention_rows(const rt::Context& context, int chosen) {
+  if (chosen < 0 || chosen > 16)
+    throw std::invalid_argument(fmt::format("SuperGlue: attention_rows must be 0 (automatic) to 16, got {}", chosen));
+  if (chosen > 0) return static_cast<std::uint32_t>(chosen);
+  return context.caps().type == "cpu" ? 8 : 4;
+}
 
 std::size_t align_up(std::size_t v, std::size_t a) { return (v + a - 1) / a * a; }
 
@@ -133,6 +142,7 @@ struct SuperGlue::Impl {
   // The fused attention and the score matrix through texel views of the storage precision, where the device
   // reads them.
   std::optional<rt::Kernel> attention_tiled_kernel, scores_tiled_kernel;
+  std::uint32_t attention_rows_per_invocation = 0;  // of attention_tiled_kernel
 
   // Per-size state: buffers and the recorded sequence, reused while (n0, n1) stays the same.
   std::size_t n0 = 0, n1 = 0;
@@ -169,13 +179,14 @@ struct SuperGlue::Impl {
       throw std::runtime_error(fmt::format("SuperGlue: device '{}' does not support precision {}", ctx.caps().name,
                                            rt::to_string(precision)));
     iterations = params.sinkhorn_iterations > 0 ? params.sinkhorn_iterations : config.sinkhorn_iterations;
+    attention_rows_per_invocation = attention_rows(ctx, params.attention_rows);
     if (params.texel_kernels && ctx.supports_uniform_texel_format(rt::vec4_texel_format(precision))) {
       const std::uint32_t head_dim = std::uint32_t(config.descriptor_dim / config.heads);
       if (head_dim % 4 == 0)
         attention_tiled_kernel.emplace(
             ctx, rt::KernelSpec{.op = "superglue_attention_tiled", .precision = precision, .bindings = 2,
                                 .written_bindings = 1u << 1, .push_constant_bytes = 24,
-                                .specialization = {head_dim / 4, kAttentionRows},
+                                .specialization = {head_dim / 4, attention_rows_per_invocation},
                                 .texel_formats = {rt::vec4_texel_format(precision)}});
       if (config.descriptor_dim % 4 == 0)
         scores_tiled_kernel.emplace(
@@ -366,7 +377,7 @@ struct SuperGlue::Impl {
         float scale;
       } push{rows_a, rows_s, first_a, first_s, dim, 1.0f / std::sqrt(float(head_dim))};
       seq->dispatch(*attention_tiled_kernel, {rt::Binding(*qkv), rt::Binding(*state)}, push,
-                    {rt::groups_for(rt::groups_for(rows_a, kAttentionRows), 16), heads, 1}, label);
+                    {rt::groups_for(rt::groups_for(rows_a, attention_rows_per_invocation), 16), heads, 1}, label);
       return;
     }
     const std::uint32_t keys = padded_keys(rows_s);  // score row stride

@@ -33,6 +33,8 @@ struct SuperGlueParams {
   // device can; false forces what devices with small texel buffers fall back to: attention as q.k GEMM, softmax
   // and p.v GEMM, storage-buffer scores and Sinkhorn (tests cover both).
   bool texel_kernels = true;
+  // Query rows per invocation of the fused attention, 1-16; 0: the device's choice (8 on CPUs, 4 on GPUs).
+  int attention_rows = 0;
 };
 
 // YAML section `point_matcher`: match_threshold, sinkhorn_iterations, precision (fp32 | fp16s | fp16 | auto).

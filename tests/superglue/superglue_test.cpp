@@ -101,12 +101,13 @@ TEST_P(SuperGlueRandom, SingleSelfAndCrossAttentionLayers) {
     spec.seed = cross ? 11 : 12;
     spec.proj_gain = 8.0;  // scores = gain^2 cos / sqrt(64): strong enough to beat the bin score
     const auto pack = test::random_superglue_pack(spec);
-    // The fused attention kernel (the default where the device reads texel buffers) and the fallback's q.k GEMM,
-    // softmax and p.v GEMM.
-    for (const bool texel_kernels : {true, false}) {
-      SCOPED_TRACE(texel_kernels ? "fused attention" : "three-pass attention");
+    // The fused attention kernel (the default where the device reads texel buffers) with 4 and 8 query rows per
+    // invocation (GPUs' and CPUs' choice), and the fallback's q.k GEMM, softmax and p.v GEMM.
+    for (const auto& [texel_kernels, rows] : {std::pair{true, 4}, std::pair{true, 8}, std::pair{false, 0}}) {
+      SCOPED_TRACE(texel_kernels ? "fused attention, " + std::to_string(rows) + " rows" : "three-pass attention");
       SuperGlueParams p = params();
       p.texel_kernels = texel_kernels;
+      p.attention_rows = rows;
       SuperGlue net(gpu(), pack, p);
       // Set sizes that are not multiples of 4 or 8, then multiples of 8: the fused kernel's last query group and
       // key block are partial; the fallback's softmax and p.v GEMM take their general paths, then the vec4
@@ -149,6 +150,10 @@ TEST_P(SuperGlueRandom, EdgeCases) {
   bad = some;
   bad.descriptors.conservativeResize(10, 16);
   EXPECT_THROW(net.match(some, bad), std::invalid_argument);
+  // An attention row count the kernel is not built for is refused when the matcher is made.
+  SuperGlueParams too_many = params();
+  too_many.attention_rows = 17;
+  EXPECT_THROW(SuperGlue(gpu(), pack, too_many), std::invalid_argument);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllPrecisions, SuperGlueRandom, ::testing::ValuesIn(rt::kAllPrecisions),
