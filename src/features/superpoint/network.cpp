@@ -173,12 +173,8 @@ std::optional<rt::GemmShape> SuperPointNetwork::conv1x1_as_gemm(SuperPointLayer 
                                                                 bool relu) const {
   if (!conv1x1_gemm || !conv1x1_matrices.has(layer) || in.pad != 0 || out_pad != 0) return std::nullopt;
   const rt::GemmShape shape = rt::conv1x1_gemm_shape(in, convs[layer].out_channels, relu);
-  if (!conv1x1_gemm->uses_tiled_kernel(shape, conv1x1_matrix(layer), rt::Binding(input))) return std::nullopt;
+  if (!conv1x1_gemm->uses_tiled_kernel(shape, conv1x1_matrices.binding(layer), rt::Binding(input))) return std::nullopt;
   return shape;
-}
-
-rt::Binding SuperPointNetwork::conv1x1_matrix(SuperPointLayer layer) const {
-  return conv1x1_matrices.binding(layer);
 }
 
 bool SuperPointNetwork::uses_winograd(SuperPointLayer layer, const rt::ActivationShape& in) const {
@@ -294,7 +290,7 @@ void SuperPointPlan::record() {
                             *winograd_products_, buffer, out, relu, false, c.name);
     } else if (const auto gemm = net_.conv1x1_as_gemm(layer, in, in_shape, out_pad, relu)) {
       const rt::Binding bias = net_.bias(layer);
-      net_.conv1x1_gemm->record(seq_, net_.conv1x1_matrix(layer), rt::Binding(in), &bias, rt::Binding(buffer), *gemm,
+      net_.conv1x1_gemm->record(seq_, net_.conv1x1_matrices.binding(layer), rt::Binding(in), &bias, rt::Binding(buffer), *gemm,
                                 c.name + " gemm");
     } else {
       const rt::Conv2d& op = c.kernel == 3 ? net_.conv3x3 : net_.conv1x1;

@@ -2,9 +2,9 @@
 // Internals of features::SuperPoint: the uploaded weights, the pipelines of every op, and the per-image-size plan
 // (activation buffers + the recorded sequence).
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <span>
-#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -63,7 +63,6 @@ struct SuperPointNetwork {
   // The GEMM that computes 1x1 `layer` on `input` (shape `in`), where it runs as one (conv1x1_gemm below).
   std::optional<rt::GemmShape> conv1x1_as_gemm(SuperPointLayer layer, const rt::Buffer& input,
                                                const rt::ActivationShape& in, std::uint32_t out_pad, bool relu) const;
-  rt::Binding conv1x1_matrix(SuperPointLayer layer) const;
   rt::Binding winograd_weights(SuperPointLayer layer) const;
 
   rt::Precision precision;
