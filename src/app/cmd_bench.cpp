@@ -21,6 +21,7 @@ struct Options {
   bool kernels = false;
   std::string filter;
   std::string winograd = "auto";
+  std::vector<std::size_t> keypoints{200, 400, 1000};
   std::vector<std::string> networks;  // names of the --<network> flags given
 };
 
@@ -51,7 +52,8 @@ int run(const Options& options) {
     for (auto p : precisions)
       for (const auto& result : vkvo::app::bench_kernels(context, p, options.repeat, options.filter)) vkvo::app::print_bench_row(result);
   }
-  const vkvo::app::BenchOptions bench_options{options.repeat, precisions, options.model, options.winograd};
+  const vkvo::app::BenchOptions bench_options{options.repeat, precisions, options.model, options.winograd,
+                                                   options.keypoints};
   for (const auto& bench : vkvo::app::network_bench_registry())
     if (std::find(options.networks.begin(), options.networks.end(), bench.name) != options.networks.end())
       status |= bench.run(context, bench_options);
@@ -68,6 +70,8 @@ vkvo::app::CommandRegistration registration{
        sub.add_flag("--kernels", options->kernels, "the single-kernel table (default when no network is named)");
        sub.add_option("--winograd", options->winograd, "SuperPoint's 3x3 convolutions by Winograd F(4x4,3x3)")
            ->check(CLI::IsMember({"auto", "on", "off"}));
+       sub.add_option("--keypoints", options->keypoints, "SuperGlue: keypoints per image, N = M (default: 200 400 1000)")
+           ->check(CLI::Range(std::size_t{1}, std::size_t{2048}));
        sub.add_option("--filter", options->filter, "kernel table: only kernels whose name contains this (e.g. gemm)");
        for (const auto& bench : vkvo::app::network_bench_registry())
          sub.add_flag_callback("--" + bench.name, [options, name = bench.name] { options->networks.push_back(name); },

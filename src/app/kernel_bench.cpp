@@ -163,11 +163,13 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     results.push_back({kernel_name, name, ms, 0, double(in.elements()) * 1.25 * elem / (ms * 1e6)});
   }
 
-  // GEMMs at SuperGlue's shapes for 400 keypoints: a projection (B^T = weight) and attention scores; and SuperPoint's
+  // GEMMs at SuperGlue's shapes for 400 keypoints: a projection (B^T = weight) and attention scores; mlp0 at 1000
+  // and 400 rows (N = M = 500 and 200: 400 rows leave lanes of the last subgroup idle); and SuperPoint's
   // convDb at 640x480 as a GEMM over its 80 x 60 planes (rt::conv1x1_gemm_shape), to compare with the conv1x1 row.
   for (const rt::GemmShape s : {rt::GemmShape{.m = 400, .n = 256, .k = 256, .b_transposed = true},
                                 rt::GemmShape{.m = 400, .n = 400, .k = 64, .b_transposed = true},
                                 rt::GemmShape{.m = 1000, .n = 512, .k = 512, .b_transposed = true},
+                                rt::GemmShape{.m = 400, .n = 512, .k = 512, .b_transposed = true},
                                 rt::conv1x1_gemm_shape(rt::ActivationShape{256, 60, 80, 0}, 256, false)}) {
     const auto kernel_name = fmt::format("gemm {}x{}x{}{}", s.m, s.n, s.k, s.b_transposed ? " B^T" : "");
     if (!wanted(kernel_name)) continue;
