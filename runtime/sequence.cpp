@@ -24,7 +24,7 @@ Sequence::Sequence(const Context& context, std::uint32_t max_timed_commands) : c
   cmd_ = std::move(vk::raii::CommandBuffers(device, {.commandPool = *pool_, .level = vk::CommandBufferLevel::ePrimary,
                                                      .commandBufferCount = 1})[0]);
   fence_ = device.createFence({});
-  if (context.caps().timestamps) {
+  if (context.caps().timestamps && max_timed_commands > 0) {
     max_queries_ = max_timed_commands + 1;
     queries_ = device.createQueryPool({.queryType = vk::QueryType::eTimestamp, .queryCount = max_queries_});
   }

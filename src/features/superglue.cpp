@@ -147,6 +147,7 @@ struct SuperGlue::Impl {
   // Per-size state: buffers and the recorded sequence, reused while (n0, n1) stays the same.
   std::size_t n0 = 0, n1 = 0;
   bool recorded = false;
+  bool profiling = false;  // per-dispatch timestamps (SuperGlue::set_profiling)
   std::unique_ptr<rt::Sequence> seq;
   std::vector<std::unique_ptr<rt::Buffer>> buffers;
   rt::Buffer *kpts = nullptr, *kscores = nullptr, *enc_in = nullptr, *enc_a = nullptr, *enc_b = nullptr,
@@ -399,7 +400,7 @@ struct SuperGlue::Impl {
   void record() {
     const std::uint32_t dim = config.descriptor_dim;
     const std::uint32_t rows = std::uint32_t(n0 + n1);
-    if (!seq) seq = std::make_unique<rt::Sequence>(context, 1024);
+    if (!seq) seq = std::make_unique<rt::Sequence>(context, profiling ? 1024 : 0);
     seq->begin();
     // Image sizes are push constants: the sequence is re-recorded when they change (see match()).
     seq->dispatch(keypoints_kernel, {rt::Binding(*kpts), rt::Binding(*kscores), rt::Binding(*enc_in)}, image_push,
@@ -493,6 +494,13 @@ SuperGlue::~SuperGlue() = default;
 
 rt::Precision SuperGlue::precision() const { return impl_->precision; }
 const SuperGlueConfig& SuperGlue::config() const { return impl_->config; }
+void SuperGlue::set_profiling(bool on) {
+  if (on == impl_->profiling) return;
+  impl_->profiling = on;
+  impl_->seq.reset();  // re-created with or without timestamps at the next recording
+  impl_->recorded = false;
+}
+
 std::vector<rt::CommandTiming> SuperGlue::last_timings() const { return impl_->timings; }
 
 double SuperGlue::flops(std::size_t n0, std::size_t n1) const {

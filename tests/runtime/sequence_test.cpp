@@ -54,19 +54,24 @@ TEST(Sequence, DependentDispatchesSeeEachOthersResultsAndResubmitRepeats) {
 
   const Gemm gemm(ctx, Precision::fp32);
   const GemmShape shape{.m = n, .n = n, .k = n};
-  Sequence seq(ctx);
-  seq.begin();
-  seq.copy(staging, ping, x.size() * 4);
-  for (int i = 0; i < 3; ++i) {  // ping -> pong -> ping -> pong, each step x2
-    gemm.record(seq, i % 2 ? pong : ping, scale, nullptr, i % 2 ? ping : pong, shape);
+  // Timestamps after the first 512 commands (the default), and after none: the same results, no timings.
+  Sequence seq(ctx), untimed(ctx, 0);
+  for (Sequence* s : {&untimed, &seq}) {
+    s->begin();
+    s->copy(staging, ping, x.size() * 4);
+    for (int i = 0; i < 3; ++i) {  // ping -> pong -> ping -> pong, each step x2
+      gemm.record(*s, i % 2 ? pong : ping, scale, nullptr, i % 2 ? ping : pong, shape);
+    }
+    s->end();
+    for (int run = 0; run < 2; ++run) {
+      s->submit();
+      const auto y = pong.download<float>(x.size());
+      for (std::size_t i = 0; i < x.size(); ++i) ASSERT_NEAR(y[i], 8.0f * x[i], 1e-5f) << "run " << run << " at " << i;
+    }
+    EXPECT_EQ(s->command_count(), 4u);
   }
-  seq.end();
-  for (int run = 0; run < 2; ++run) {
-    seq.submit();
-    const auto y = pong.download<float>(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) ASSERT_NEAR(y[i], 8.0f * x[i], 1e-5f) << "run " << run << " at " << i;
-  }
-  EXPECT_EQ(seq.command_count(), 4u);
+  EXPECT_TRUE(untimed.timings().empty());
+  EXPECT_EQ(untimed.gpu_ms(), 0.0);
   if (ctx.caps().timestamps) {
     const auto timings = seq.timings();
     ASSERT_EQ(timings.size(), 4u);

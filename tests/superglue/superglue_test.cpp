@@ -1,6 +1,8 @@
 // SuperGlue on the device against the double-precision reference (tests/superglue/superglue_reference.hpp) with
 // random weights, in every precision the device supports: the whole network, networks reduced to single stages
 // (no GNN layer: encoder + scores + Sinkhorn + extraction; one self layer: attention), edge cases.
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "common/gpu.hpp"
@@ -72,6 +74,19 @@ TEST_P(SuperGlueRandom, WholeNetworkMatchesReference) {
   const auto [c, d] = make_pair(37, 23, 32, 2);
   expect_matches_reference(net, pack, c, d, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
   expect_matches_reference(net, pack, d, c, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+  EXPECT_TRUE(net.last_timings().empty()) << "no timestamps unless profiling";
+  // Profiling re-records with a timestamp per dispatch and changes no result.
+  const PointMatches plain = net.match(c, d);
+  net.set_profiling(true);
+  const PointMatches profiled = net.match(c, d);
+  EXPECT_EQ(profiled.matches0, plain.matches0);
+  EXPECT_EQ(profiled.scores0, plain.scores0);
+  if (gpu().caps().timestamps) {
+    const auto timings = net.last_timings();
+    const auto sinkhorn = std::count_if(timings.begin(), timings.end(), [](const auto& t) { return t.label == "sinkhorn"; });
+    EXPECT_GE(sinkhorn, 1) << "the stage table needs Sinkhorn's dispatches";
+    EXPECT_GT(timings.size(), 5u * net.config().cross_layers.size()) << "a timestamp per dispatch";
+  }
 }
 
 TEST_P(SuperGlueRandom, SinkhornAndExtractionWithoutGnn) {
@@ -123,6 +138,7 @@ TEST_P(SuperGlueRandom, SingleSelfAndCrossAttentionLayers) {
 TEST_P(SuperGlueRandom, EdgeCases) {
   const auto pack = test::random_superglue_pack({});
   SuperGlue net(gpu(), pack, params());
+  net.set_profiling(true);  // so that "nothing ran" below is seen, not a lack of timestamps
   std::mt19937 rng(5);
   const PointFeatures empty = test::random_features(0, 32, rng);
   const PointFeatures some = test::random_features(10, 32, rng);
