@@ -138,7 +138,7 @@ struct SuperGlue::Impl {
   rt::Kernel keypoints_kernel, softmax_kernel, scores_kernel, sinkhorn_kernel, assignment_kernel, argmax_kernel,
       mutual_kernel;
   // Sinkhorn through RGBA32F texel buffers, where the device reads them (see texel_sinkhorn_fits()).
-  std::optional<rt::Kernel> couplings_pad_kernel, sinkhorn_tiled_kernel;
+  std::optional<rt::Kernel> couplings_pad_kernel, sinkhorn_tiled_kernel, sinkhorn_fused_kernel;
   // The fused attention and the score matrix through texel views of the storage precision, where the device
   // reads them.
   std::optional<rt::Kernel> attention_tiled_kernel, scores_tiled_kernel;
@@ -203,6 +203,10 @@ struct SuperGlue::Impl {
           ctx, rt::KernelSpec{.op = "superglue_sinkhorn_tiled", .precision = precision, .bindings = 3,
                               .written_bindings = 0b100u, .push_constant_bytes = 16, .specialization = {},
                               .texel_formats = {vk::Format::eR32G32B32A32Sfloat, vk::Format::eR32G32B32A32Sfloat}});
+      sinkhorn_fused_kernel.emplace(
+          ctx, rt::KernelSpec{.op = "superglue_sinkhorn_fused", .precision = precision, .bindings = 4,
+                              .written_bindings = 0b1100u, .push_constant_bytes = 24, .specialization = {},
+                              .texel_formats = {vk::Format::eR32G32B32A32Sfloat, vk::Format::eR32G32B32A32Sfloat}});
     }
     prepare_weights(pack);
   }
@@ -220,6 +224,19 @@ struct SuperGlue::Impl {
   bool texel_sinkhorn_fits() const {
     const std::size_t limit = context.caps().max_texel_buffer_elements;
     return sinkhorn_tiled_kernel && (n0 + 1) * cols_padded() / 4 <= limit && (n1 + 1) * rows_padded() / 4 <= limit;
+  }
+
+  // Whether Sinkhorn runs as one workgroup (superglue_sinkhorn_fused.comp) at the current size: its shared
+  // potentials hold 1024 entries per set, dustbin and padding included. CPU devices choose it for couplings up to
+  // kFusedSinkhornCells entries: there every dispatch wakes the worker threads (about 0.1 ms on 2 cores), while the
+  // fused kernel runs on one of them. Measured with lavapipe on 2 Zen 5 cores (100 iterations, one profiled call
+  // each, dispatches' figures less their timestamps): N = M = 100 4 vs ~19 ms, 200 16 vs ~24 ms, 250 24 vs ~24 ms,
+  // 300 35 vs ~19-26 ms, 400 62 vs ~32 ms. GPUs keep the dispatches until measured.
+  static constexpr std::size_t kFusedSinkhornCells = 48 * 1024;  // N = M = 220
+  bool fused_sinkhorn_runs() const {
+    if (!sinkhorn_fused_kernel || !texel_sinkhorn_fits() || rows_padded() > 1024 || cols_padded() > 1024) return false;
+    if (params.fused_sinkhorn) return *params.fused_sinkhorn;
+    return context.caps().type == "cpu" && (n0 + 1) * (n1 + 1) <= kFusedSinkhornCells;
   }
 
   // Reads the pack's fp32 weights, regroups and folds them (see the header), and uploads them at the storage
@@ -472,6 +489,14 @@ struct SuperGlue::Impl {
     seq->dispatch(*couplings_pad_kernel, {rt::Binding(*z), rt::Binding(*z_rows), rt::Binding(*z_cols)}, pad,
                   {rt::groups_for(cols_p, 16), rt::groups_for(rows_p, 4)}, "sinkhorn init");
     struct HalfPush { std::uint32_t lines, line_length, texels; float norm; };
+    if (fused_sinkhorn_runs()) {
+      struct FusedPush { std::uint32_t rows, cols, row_texels, column_texels, iterations; float norm; } fused{
+          rows, cols, cols_p / 4, rows_p / 4, std::uint32_t(iterations), norm};
+      seq->dispatch(*sinkhorn_fused_kernel,
+                    {rt::Binding(*z_rows), rt::Binding(*z_cols), rt::Binding(*u), rt::Binding(*v)}, fused, {1},
+                    "sinkhorn");
+      return;
+    }
     const HalfPush by_row{rows, cols, cols_p / 4, norm}, by_column{cols, rows, rows_p / 4, norm};
     for (int it = 0; it < iterations; ++it) {
       seq->dispatch(*sinkhorn_tiled_kernel, {rt::Binding(*z_rows), rt::Binding(*v), rt::Binding(*u)}, by_row,

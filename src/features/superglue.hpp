@@ -35,6 +35,10 @@ struct SuperGlueParams {
   bool texel_kernels = true;
   // Query rows per invocation of the fused attention, 1-16; 0: the device's choice (8 on CPUs, 4 on GPUs).
   int attention_rows = 0;
+  // All Sinkhorn iterations in one workgroup (superglue_sinkhorn_fused.comp) rather than two dispatches each, where
+  // the texel-buffer Sinkhorn runs and both sets have at most 1023 keypoints. nullopt: the device's choice (CPU
+  // devices, for small couplings matrices: see superglue.cpp); true: whenever it can; false: never.
+  std::optional<bool> fused_sinkhorn;
 };
 
 // YAML section `point_matcher`: match_threshold, sinkhorn_iterations, precision (fp32 | fp16s | fp16 | auto).

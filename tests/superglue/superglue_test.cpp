@@ -83,7 +83,8 @@ TEST_P(SuperGlueRandom, WholeNetworkMatchesReference) {
   EXPECT_EQ(profiled.scores0, plain.scores0);
   if (gpu().caps().timestamps) {
     const auto timings = net.last_timings();
-    const auto sinkhorn = std::count_if(timings.begin(), timings.end(), [](const auto& t) { return t.label == "sinkhorn"; });
+    const auto sinkhorn =
+        std::count_if(timings.begin(), timings.end(), [](const auto& t) { return t.label == "sinkhorn"; });
     EXPECT_GE(sinkhorn, 1) << "the stage table needs Sinkhorn's dispatches";
     EXPECT_GT(timings.size(), 5u * net.config().cross_layers.size()) << "a timestamp per dispatch";
   }
@@ -94,16 +95,27 @@ TEST_P(SuperGlueRandom, SinkhornAndExtractionWithoutGnn) {
   spec.cross = {};
   spec.sinkhorn_iterations = 20;
   const auto pack = test::random_superglue_pack(spec);
-  // Both Sinkhorn kernels: through texel buffers (the default where the device reads them) and the storage-buffer
-  // fallback; 50 + 1 and 41 + 1 lines are not multiples of the texel width.
-  for (const bool texel_kernels : {true, false}) {
-    SCOPED_TRACE(texel_kernels ? "texel-buffer Sinkhorn" : "storage-buffer Sinkhorn");
+  // Every Sinkhorn kernel: through texel buffers (the default where the device reads them) with a dispatch per
+  // half-iteration and as one fused workgroup, and the storage-buffer fallback; 50 + 1 and 41 + 1 lines are not
+  // multiples of the texel width.
+  for (const auto& [texel_kernels, fused] : {std::pair{true, false}, std::pair{true, true}, std::pair{false, false}}) {
+    SCOPED_TRACE(texel_kernels ? (fused ? "fused texel-buffer Sinkhorn" : "texel-buffer Sinkhorn")
+                               : "storage-buffer Sinkhorn");
     SuperGlueParams p = params();
     p.texel_kernels = texel_kernels;
+    p.fused_sinkhorn = fused;
     SuperGlue net(gpu(), pack, p);
+    net.set_profiling(true);
     EXPECT_EQ(net.config().sinkhorn_iterations, 20);
     const auto [a, b] = make_pair(50, 41, 32, 3);
     expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+    const bool texel_sinkhorn = texel_kernels && gpu().supports_uniform_texel_format(vk::Format::eR32G32B32A32Sfloat);
+    if (gpu().caps().timestamps && texel_sinkhorn) {
+      const auto timings = net.last_timings();
+      const auto sinkhorn =
+          std::count_if(timings.begin(), timings.end(), [](const auto& t) { return t.label == "sinkhorn"; });
+      EXPECT_EQ(sinkhorn, fused ? 1 : 2 * 20) << "dispatches of the Sinkhorn iterations";
+    }
   }
 }
 
