@@ -228,7 +228,7 @@ struct SuperGlue::Impl {
 
   // Whether Sinkhorn runs as one workgroup (superglue_sinkhorn_fused.comp) at the current size: its shared
   // potentials hold 1024 entries per set, dustbin and padding included. CPU devices choose it for couplings up to
-  // kFusedSinkhornCells entries: there every dispatch wakes the worker threads (about 0.1 ms on 2 cores), while the
+  // kFusedSinkhornCells entries: there every dispatch wakes the worker threads (about 0.07 ms on 2 cores), while the
   // fused kernel runs on one of them. Measured with lavapipe on 2 Zen 5 cores (100 iterations, one profiled call
   // each, dispatches' figures less their timestamps): N = M = 100 4 vs ~19 ms, 200 16 vs ~24 ms, 250 24 vs ~24 ms,
   // 300 35 vs ~19-26 ms, 400 62 vs ~32 ms. GPUs keep the dispatches until measured.
@@ -488,7 +488,6 @@ struct SuperGlue::Impl {
     struct PadPush { std::uint32_t rows, cols, rows_padded, cols_padded; } pad{rows, cols, rows_p, cols_p};
     seq->dispatch(*couplings_pad_kernel, {rt::Binding(*z), rt::Binding(*z_rows), rt::Binding(*z_cols)}, pad,
                   {rt::groups_for(cols_p, 16), rt::groups_for(rows_p, 4)}, "sinkhorn init");
-    struct HalfPush { std::uint32_t lines, line_length, texels; float norm; };
     if (fused_sinkhorn_runs()) {
       struct FusedPush { std::uint32_t rows, cols, row_texels, column_texels, iterations; float norm; } fused{
           rows, cols, cols_p / 4, rows_p / 4, std::uint32_t(iterations), norm};
@@ -497,6 +496,7 @@ struct SuperGlue::Impl {
                     "sinkhorn");
       return;
     }
+    struct HalfPush { std::uint32_t lines, line_length, texels; float norm; };
     const HalfPush by_row{rows, cols, cols_p / 4, norm}, by_column{cols, rows, rows_p / 4, norm};
     for (int it = 0; it < iterations; ++it) {
       seq->dispatch(*sinkhorn_tiled_kernel, {rt::Binding(*z_rows), rt::Binding(*v), rt::Binding(*u)}, by_row,
