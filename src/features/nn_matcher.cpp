@@ -32,9 +32,10 @@ struct NnMatcher::Impl {
   NnMatcherParams params;
   rt::Gemm gemm;
   rt::Kernel best_kernel, select_kernel;
-  rt::Sequence seq;
+  std::unique_ptr<rt::Sequence> seq;  // made at the first recording, with timestamps when profiling
   std::size_t n0 = 0, n1 = 0, dim = 0;
   bool recorded = false;
+  bool profiling = false;
   std::unique_ptr<rt::Buffer> desc0, desc1, similarity, best, best_value, second, matches, scores;
   std::vector<rt::CommandTiming> timings;
 
@@ -45,8 +46,7 @@ struct NnMatcher::Impl {
         best_kernel(ctx, {.op = "nn_best", .precision = rt::Precision::fp32, .bindings = 4,
                           .written_bindings = 0b1110u, .push_constant_bytes = 8, .specialization = {}}),
         select_kernel(ctx, {.op = "nn_select", .precision = rt::Precision::fp32, .bindings = 5,
-                            .written_bindings = 0b11000u, .push_constant_bytes = 16, .specialization = {}}),
-        seq(ctx, 16) {}
+                            .written_bindings = 0b11000u, .push_constant_bytes = 16, .specialization = {}}) {}
 
   std::unique_ptr<rt::Buffer> make(std::size_t bytes, const char* name) const {
     return std::make_unique<rt::Buffer>(context, std::max<std::size_t>(bytes, 16), rt::BufferKind::device, name);
@@ -62,18 +62,19 @@ struct NnMatcher::Impl {
     second = make(rows * 4, "nn.second");
     matches = make(n0 * 4, "nn.matches0");
     scores = make(n0 * 4, "nn.scores0");
-    seq.begin();
-    gemm.record(seq, *desc0, *desc1, nullptr, *similarity,
+    if (!seq) seq = std::make_unique<rt::Sequence>(context, profiling ? 16 : 0);
+    seq->begin();
+    gemm.record(*seq, *desc0, *desc1, nullptr, *similarity,
                 {.m = std::uint32_t(n0), .n = std::uint32_t(n1), .k = std::uint32_t(dim), .b_transposed = true},
                 "similarity");
     struct BestPush { std::uint32_t n0, n1; } bp{std::uint32_t(n0), std::uint32_t(n1)};
-    seq.dispatch(best_kernel, {rt::Binding(*similarity), rt::Binding(*best), rt::Binding(*best_value),
+    seq->dispatch(best_kernel, {rt::Binding(*similarity), rt::Binding(*best), rt::Binding(*best_value),
                                rt::Binding(*second)}, bp, {rt::groups_for(rows, 64)}, "nearest");
     struct SelectPush { std::uint32_t n0, n1; float max_cosine_distance, ratio; } sp{
         std::uint32_t(n0), std::uint32_t(n1), params.max_cosine_distance, params.ratio};
-    seq.dispatch(select_kernel, {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*second),
-                                 rt::Binding(*matches), rt::Binding(*scores)}, sp, {rt::groups_for(n0, 64)}, "select");
-    seq.end();
+    seq->dispatch(select_kernel, {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*second),
+                                  rt::Binding(*matches), rt::Binding(*scores)}, sp, {rt::groups_for(n0, 64)}, "select");
+    seq->end();
     recorded = true;
   }
 };
@@ -81,6 +82,13 @@ struct NnMatcher::Impl {
 NnMatcher::NnMatcher(const rt::Context& context, const NnMatcherParams& params)
     : impl_(std::make_unique<Impl>(context, params)) {}
 NnMatcher::~NnMatcher() = default;
+
+void NnMatcher::set_profiling(bool on) {
+  if (on == impl_->profiling) return;
+  impl_->profiling = on;
+  impl_->seq.reset();
+  impl_->recorded = false;
+}
 
 std::vector<rt::CommandTiming> NnMatcher::last_timings() const { return impl_->timings; }
 
@@ -105,8 +113,8 @@ PointMatches NnMatcher::match(const PointFeatures& a, const PointFeatures& b) {
   }
   s.desc0->upload(a.descriptors.data(), s.n0 * dim * 4);
   s.desc1->upload(b.descriptors.data(), s.n1 * dim * 4);
-  s.seq.submit();
-  s.timings = s.seq.timings();
+  s.seq->submit();
+  s.timings = s.seq->timings();
   const auto m = s.matches->download<std::int32_t>(s.n0);
   result.matches0.assign(m.begin(), m.end());
   result.scores0 = s.scores->download<float>(s.n0);

@@ -32,6 +32,8 @@ class NnMatcher final : public PointMatcher {
 
   // scores0 holds the cosine similarity of each kept match.
   PointMatches match(const PointFeatures& a, const PointFeatures& b) override;
+  // GPU time of each dispatch of the last match(): empty unless profiling is on (as for SuperPoint and SuperGlue).
+  void set_profiling(bool on);
   std::vector<rt::CommandTiming> last_timings() const;
 
  private:

@@ -61,7 +61,7 @@ SuperPoint::~SuperPoint() = default;
 
 SuperPointPlan& SuperPoint::plan_for(int width, int height) {
   auto& plan = plans_[{width, height}];
-  if (!plan) plan = std::make_unique<SuperPointPlan>(context_, *network_, params_, width, height);
+  if (!plan) plan = std::make_unique<SuperPointPlan>(context_, *network_, params_, width, height, profiling_);
   return *plan;
 }
 
@@ -91,6 +91,13 @@ PointFeatures SuperPoint::detect(const cv::Mat& image, SuperPointDense* dense) {
     plan.download_dense(dense->scores, dense->descriptors);
   }
   return result;
+}
+
+void SuperPoint::set_profiling(bool on) {
+  if (on == profiling_) return;
+  profiling_ = on;
+  plans_.clear();  // rebuilt with or without timestamps at the next detect()
+  last_plan_ = nullptr;
 }
 
 std::vector<rt::CommandTiming> SuperPoint::last_timings() const {

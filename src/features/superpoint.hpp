@@ -69,7 +69,10 @@ class SuperPoint {
   const SuperPointParams& params() const { return params_; }
   rt::Precision precision() const { return precision_; }
   int descriptor_dim() const { return descriptor_dim_; }
-  // GPU time of each command of the last detect() (empty without timestamp support), labelled by layer.
+  // GPU time of each command of the last detect(), labelled by layer: empty unless profiling is on (and the device
+  // has timestamps). Off by default, as for SuperGlue and the NN matcher: each timestamp costs lavapipe a context
+  // flush (rt::Sequence). Takes effect at the next detect() (the per-size plans are rebuilt).
+  void set_profiling(bool on);
   std::vector<rt::CommandTiming> last_timings() const;
   // Number of NMS candidates above the threshold in the last detect() (before top-k).
   std::uint32_t last_candidate_count() const { return last_candidates_; }
@@ -88,6 +91,7 @@ class SuperPoint {
   std::map<std::pair<int, int>, std::unique_ptr<SuperPointPlan>> plans_;
   SuperPointPlan* last_plan_ = nullptr;
   std::uint32_t last_candidates_ = 0;
+  bool profiling_ = false;
 };
 
 }  // namespace vkvo::features

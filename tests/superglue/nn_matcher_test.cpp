@@ -53,6 +53,18 @@ TEST(NnMatcher, FindsPlantedCorrespondences) {
   }
   NnMatcher matcher(gpu());
   const PointMatches m = matcher.match(a, b);
+  EXPECT_TRUE(matcher.last_timings().empty()) << "no timestamps unless profiling";
+  // Profiling re-records with a timestamp per dispatch and changes no result.
+  matcher.set_profiling(true);
+  const PointMatches profiled = matcher.match(a, b);
+  EXPECT_EQ(profiled.matches0, m.matches0);
+  EXPECT_EQ(profiled.scores0, m.scores0);
+  if (gpu().caps().timestamps) {
+    const auto timings = matcher.last_timings();
+    ASSERT_EQ(timings.size(), 3u);
+    EXPECT_EQ(timings[0].label, "similarity");
+    EXPECT_EQ(timings[2].label, "select");
+  }
   ASSERT_EQ(m.matches0.size(), 120u);
   for (int i = 0; i < 80; ++i) {
     EXPECT_EQ(m.matches0[std::size_t(i)], perm[std::size_t(i)]) << "planted keypoint " << i;

@@ -105,6 +105,7 @@ void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams:
   params.tiled_kernels = tiled_kernels;
   params.winograd = winograd;
   SuperPoint sp(gpu(), pack, params);
+  sp.set_profiling(true);  // the labels of the timed commands say which path ran
   const cv::Mat image = random_image(width, height, 3);  // 53 x 42 -> 6 x 5 cells, dense 48 x 40
   SuperPointDense dense;
   sp.detect(image, &dense);

@@ -193,7 +193,7 @@ rt::Binding SuperPointNetwork::bias(SuperPointLayer layer) const {
 }
 
 SuperPointPlan::SuperPointPlan(const rt::Context& ctx, const SuperPointNetwork& net, const SuperPointParams& params,
-                               int width, int height)
+                               int width, int height, bool profile)
     : context_(ctx),
       net_(net),
       width_(static_cast<std::uint32_t>(width)),
@@ -218,7 +218,7 @@ SuperPointPlan::SuperPointPlan(const rt::Context& ctx, const SuperPointNetwork& 
       keypoints_(ctx, 16, rt::BufferKind::device, "superpoint.keypoints"),
       scores_(ctx, 16, rt::BufferKind::device, "superpoint.scores"),
       descriptors_(ctx, 16, rt::BufferKind::device, "superpoint.descriptors"),
-      seq_(ctx) {
+      seq_(ctx, profile ? 512 : 0) {
   // NMS maxima closer than r+1 pixels need exactly equal scores, so (r+1)^2 pixels per candidate is a safe
   // bound in practice; an overflow is reported by keypoint_count().
   const std::size_t pixels = std::size_t(cells_h_) * cells_w_ * 64;

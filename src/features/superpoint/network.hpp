@@ -92,8 +92,9 @@ struct SuperPointNetwork {
 // Buffers and the recorded sequence for one image size.
 class SuperPointPlan {
  public:
+  // `profile`: a GPU timestamp after every command (SuperPoint::set_profiling).
   SuperPointPlan(const rt::Context& context, const SuperPointNetwork& net, const SuperPointParams& params, int width,
-                 int height);
+                 int height, bool profile);
 
   // Uploads the image (CV_8UC1 data, `stride` bytes per row), submits, returns the number of NMS candidates.
   std::uint32_t run(const std::uint8_t* pixels, std::size_t stride);
