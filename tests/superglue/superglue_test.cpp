@@ -15,6 +15,11 @@ namespace {
 
 using test::gpu;
 
+// Sinkhorn's timed dispatches in a profiled call.
+std::ptrdiff_t sinkhorn_dispatches(const std::vector<rt::CommandTiming>& timings) {
+  return std::count_if(timings.begin(), timings.end(), [](const auto& t) { return t.label == "sinkhorn"; });
+}
+
 class SuperGlueRandom : public ::testing::TestWithParam<rt::Precision> {
  protected:
   void SetUp() override {
@@ -83,9 +88,7 @@ TEST_P(SuperGlueRandom, WholeNetworkMatchesReference) {
   EXPECT_EQ(profiled.scores0, plain.scores0);
   if (gpu().caps().timestamps) {
     const auto timings = net.last_timings();
-    const auto sinkhorn =
-        std::count_if(timings.begin(), timings.end(), [](const auto& t) { return t.label == "sinkhorn"; });
-    EXPECT_GE(sinkhorn, 1) << "the stage table needs Sinkhorn's dispatches";
+    EXPECT_GE(sinkhorn_dispatches(timings), 1) << "the stage table needs Sinkhorn's dispatches";
     EXPECT_GT(timings.size(), 5u * net.config().cross_layers.size()) << "a timestamp per dispatch";
   }
 }
@@ -110,12 +113,8 @@ TEST_P(SuperGlueRandom, SinkhornAndExtractionWithoutGnn) {
     const auto [a, b] = make_pair(50, 41, 32, 3);
     expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
     const bool texel_sinkhorn = texel_kernels && gpu().supports_uniform_texel_format(vk::Format::eR32G32B32A32Sfloat);
-    if (gpu().caps().timestamps && texel_sinkhorn) {
-      const auto timings = net.last_timings();
-      const auto sinkhorn =
-          std::count_if(timings.begin(), timings.end(), [](const auto& t) { return t.label == "sinkhorn"; });
-      EXPECT_EQ(sinkhorn, fused ? 1 : 2 * 20) << "dispatches of the Sinkhorn iterations";
-    }
+    if (gpu().caps().timestamps && texel_sinkhorn)
+      EXPECT_EQ(sinkhorn_dispatches(net.last_timings()), fused ? 1 : 2 * 20) << "dispatches of the Sinkhorn iterations";
   }
 }
 
