@@ -9,14 +9,15 @@
 // this kernel 40 texel fetches per 256.
 //
 // Out-of-range pixels read clamped addresses and skip the store.
+#include "texel_buffer.glsl"
 #extension GL_EXT_control_flow_attributes : require
 #include "precision.glsl"
 #include "tensor.glsl"
 
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z = 1) in;
 
-layout(binding = 0) uniform samplerBuffer src;      // activations, one channel value per texel
-layout(binding = 1) uniform samplerBuffer weights;  // one vec4 (4 output channels) per texel
+layout(binding = 0) uniform textureBuffer src;      // activations, one channel value per texel
+layout(binding = 1) uniform textureBuffer weights;  // one vec4 (4 output channels) per texel
 layout(std430, binding = 2) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 3) writeonly buffer Output { sfloat dst[]; };
 

@@ -14,6 +14,7 @@
 // The key and value fetches serve all kRows rows: 8 rows instead of 4 halve them per multiply-add, and made the
 // attention at N = M = 1000 11 % faster on lavapipe (1.70-2.05 vs 1.90-2.08 s, seven alternating pairs; no
 // change at N = 200 and 400); 16 rows measured no better than 8. GPUs keep 4 rows (see the host) until measured.
+#include "texel_buffer.glsl"
 #extension GL_EXT_control_flow_attributes : require
 #include "precision.glsl"
 
@@ -21,7 +22,7 @@ layout(local_size_x = 16, local_size_y = 1, local_size_z = 1) in;
 layout(constant_id = 0) const uint kHeadVec4 = 16;  // head_dim / 4 (the accumulators are indexed by constants)
 layout(constant_id = 1) const uint kRows = 8;       // query rows per invocation (the host: 8 on CPUs, 4 on GPUs)
 
-layout(binding = 0) uniform samplerBuffer qkv;  // rows of [q | k | v], 3 * dim values, 4 per texel
+layout(binding = 0) uniform textureBuffer qkv;  // rows of [q | k | v], 3 * dim values, 4 per texel
 layout(std430, binding = 1) writeonly buffer State { sfloat state[]; };  // rows of [descriptor | message]
 
 layout(push_constant) uniform Params {

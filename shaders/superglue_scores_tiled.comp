@@ -3,11 +3,12 @@
 // storage precision, 4 dimensions per fetch (descriptor_dim a multiple of 4): per 4 dimensions an invocation
 // makes 7 fetches for its 3 x 4 block where the storage-buffer kernel makes 28 loads, each a scalar loop over the
 // lanes on lavapipe. Used where the descriptors fit maxTexelBufferElements.
+#include "texel_buffer.glsl"
 #include "precision.glsl"
 
 layout(local_size_x = 16, local_size_y = 4) in;
 
-layout(binding = 0) uniform samplerBuffer desc;  // (n0 + n1) x dim: image 0 rows, then image 1; 4 per texel
+layout(binding = 0) uniform textureBuffer desc;  // (n0 + n1) x dim: image 0 rows, then image 1; 4 per texel
 layout(std430, binding = 1) writeonly buffer Couplings { float z[]; };
 
 layout(push_constant) uniform Params {

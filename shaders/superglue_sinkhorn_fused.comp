@@ -7,8 +7,8 @@
 // The couplings come as superglue_sinkhorn_tiled.comp takes them: Z's rows and Z^T's rows, padded to texels.
 layout(local_size_x = 128) in;
 
-layout(binding = 0) uniform samplerBuffer by_row;     // rows x row_texels texels: Z's rows
-layout(binding = 1) uniform samplerBuffer by_column;  // cols x column_texels texels: Z's columns
+layout(binding = 0) uniform textureBuffer by_row;     // rows x row_texels texels: Z's rows
+layout(binding = 1) uniform textureBuffer by_column;  // cols x column_texels texels: Z's columns
 // The final potentials, padded as the tiled kernel leaves them: u (rows, column_texels texels), v (cols,
 // row_texels texels).
 layout(std430, binding = 2) writeonly buffer RowPotential { vec4 u4[]; };
@@ -26,10 +26,11 @@ const uint kMaxTexels = 256;
 shared vec4 potential[2][kMaxTexels];  // [0]: rows (u), [1]: columns (v)
 uint other_axis = 1u;                 // the axis whose potential the current half reads
 #define SINKHORN_OTHER(e) potential[other_axis][e]
+#include "texel_buffer.glsl"
 #include "sinkhorn_line.glsl"
 
 // Potential of `lines` lines of `couplings` into potential[axis], reading potential[1 - axis].
-void half_iteration(samplerBuffer couplings, uint axis, uint lines, uint texels, uint others) {
+void half_iteration(textureBuffer couplings, uint axis, uint lines, uint texels, uint others) {
   other_axis = 1u - axis;
   for (uint t = gl_LocalInvocationID.x; t < lines; t += gl_WorkGroupSize.x) {
     const bool dustbin = t == lines - 1u;

@@ -6,8 +6,8 @@
 // the columns with a stride of a whole row: 0.2-3.7 s of SuperGlue's 1.1-12 s at N = 200-1000 on lavapipe.
 layout(local_size_x = 64) in;
 
-layout(binding = 0) uniform samplerBuffer couplings;  // lines x (texels * 4): row t holds Z's line t of this axis
-layout(binding = 1) uniform samplerBuffer other;      // the other axis' potential, texels * 4 entries
+layout(binding = 0) uniform textureBuffer couplings;  // lines x (texels * 4): row t holds Z's line t of this axis
+layout(binding = 1) uniform textureBuffer other;      // the other axis' potential, texels * 4 entries
 layout(std430, binding = 2) writeonly buffer Potential { float potential[]; };
 
 layout(push_constant) uniform Params {
@@ -18,6 +18,7 @@ layout(push_constant) uniform Params {
 } p;
 
 #define SINKHORN_OTHER(e) texelFetch(other, int(e))
+#include "texel_buffer.glsl"
 #include "sinkhorn_line.glsl"
 
 void main() {

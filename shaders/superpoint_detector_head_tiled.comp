@@ -8,13 +8,14 @@
 // once per channel, is what keeps the stores from binding the kernel). Measured on lavapipe (Mesa 22.3, 2 Zen 3
 // cores), 256 channels at 80 x 60 cells: 342 ms with the storage-buffer kernel, 8 ms with this one.
 // The host guarantees in_channels % 4 == 0.
+#include "texel_buffer.glsl"
 #extension GL_EXT_control_flow_attributes : require
 #include "precision.glsl"
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
-layout(binding = 0) uniform samplerBuffer src;      // I x cells (Hc x Wc, no border), one value per texel
-layout(binding = 1) uniform samplerBuffer weights;  // "o4" [17][I]: one vec4 (4 output channels) per texel
+layout(binding = 0) uniform textureBuffer src;      // I x cells (Hc x Wc, no border), one value per texel
+layout(binding = 1) uniform textureBuffer weights;  // "o4" [17][I]: one vec4 (4 output channels) per texel
 layout(std430, binding = 2) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 3) writeonly buffer Scores { float dense[]; };  // (Hc*8) x (Wc*8)
 

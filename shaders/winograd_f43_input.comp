@@ -3,9 +3,10 @@
 // row per texel, as conv3x3_tiled reads it: the window's padded columns 4tx .. 4tx + 5 are texel tx and the first
 // half of texel tx + 1. The transform and its layout: winograd_f43_input_body.glsl.
 #define TRANSFORMED_BINDING 1
+#include "texel_buffer.glsl"
 #include "winograd_f43_input_body.glsl"
 
-layout(binding = 0) uniform samplerBuffer src;  // 4 consecutive values of a padded row per texel
+layout(binding = 0) uniform textureBuffer src;  // 4 consecutive values of a padded row per texel
 
 void main() {
   TileBlock t;

@@ -10,10 +10,11 @@
 // (4ty - 1, 4tx - 1), i.e. the last value of texel tx - 1, texel tx and the first 3 values of texel tx + 1 of 8
 // rows. Reads outside the tensor are clamped; they only reach positions off the image, which are zero.
 #define TRANSFORMED_BINDING 3
+#include "texel_buffer.glsl"
 #include "winograd_f43_input_body.glsl"
 
-layout(binding = 0) uniform samplerBuffer image;         // 4 consecutive values of a padded row per texel
-layout(binding = 1) uniform samplerBuffer stem_weights;  // "o4": texel block * 9 + tap, 4 output channels
+layout(binding = 0) uniform textureBuffer image;         // 4 consecutive values of a padded row per texel
+layout(binding = 1) uniform textureBuffer stem_weights;  // "o4": texel block * 9 + tap, 4 output channels
 layout(std430, binding = 2) readonly buffer StemBias { vec4 stem_bias[]; };
 
 void main() {

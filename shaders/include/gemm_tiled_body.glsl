@@ -28,6 +28,7 @@
 // unrolled (see there); fp16s: 24 ms with RGBA16F texels, 16.6 ms with 8 halves per texel.
 //
 // Defines before inclusion: ROWS and COLS (a multiple of 8).
+#include "texel_buffer.glsl"
 #extension GL_EXT_control_flow_attributes : require
 #include "precision.glsl"
 
@@ -43,13 +44,13 @@ layout(constant_id = 1) const bool kVec4Store = false;
 // multiply-add (an RGBA16F view held 4). The host checks that K, the leading dimensions, offsets and batch
 // strides (and N when B is not transposed) are multiples of kPerTexel.
 #if defined(VKVO_VARIANT_fp32)
-layout(binding = 0) uniform samplerBuffer a_texels;  // A
-layout(binding = 1) uniform samplerBuffer b_texels;  // B
+layout(binding = 0) uniform textureBuffer a_texels;  // A
+layout(binding = 1) uniform textureBuffer b_texels;  // B
 const uint kPerTexel = 4;
 #define FETCH(texels, index, dst) dst[0] = avec4(texelFetch(texels, int(index)))
 #else
-layout(binding = 0) uniform usamplerBuffer a_texels;  // A
-layout(binding = 1) uniform usamplerBuffer b_texels;  // B
+layout(binding = 0) uniform utextureBuffer a_texels;  // A
+layout(binding = 1) uniform utextureBuffer b_texels;  // B
 const uint kPerTexel = 8;
 #define FETCH(texels, index, dst)                                                   \
   {                                                                                 \

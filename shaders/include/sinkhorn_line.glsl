@@ -9,13 +9,14 @@
 // block of 4 texels when the maximum grows. Two passes (maximum, then sum) fetched every texel twice, and on
 // lavapipe each fetch of the line is a gather of 8 lanes' rows that misses the cache (N = 1000: 0.2-0.4 s of
 // SuperGlue).
+#include "texel_buffer.glsl"
 #extension GL_EXT_control_flow_attributes : require
 
 const uint kSinkhornBlock = 4;  // texels per step of the running maximum
 
 // couplings: the padded lines of this axis, `texels` texels each, line t's first at `base`. `others`: real
 // points of the other set, the mass of this set's dustbin (the last line).
-float sinkhorn_potential(samplerBuffer couplings, uint base, uint texels, bool dustbin, uint others, float norm) {
+float sinkhorn_potential(textureBuffer couplings, uint base, uint texels, bool dustbin, uint others, float norm) {
   float peak = -3.0e38, total = 0.0;
   for (uint e0 = 0; e0 < texels; e0 += kSinkhornBlock) {
     vec4 x[kSinkhornBlock];

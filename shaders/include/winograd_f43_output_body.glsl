@@ -5,6 +5,7 @@
 // dense) activation. Pixels past the image are not stored.
 //
 // Define VKVO_WINOGRAD_MAXPOOL before inclusion to store the pooled tile (floor semantics, as maxpool2x2.comp).
+#include "texel_buffer.glsl"
 #extension GL_EXT_control_flow_attributes : require
 #include "precision.glsl"
 #include "tensor.glsl"
@@ -12,7 +13,7 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
-layout(binding = 0) uniform samplerBuffer products;  // [36][tiles][ceil(channels / 4)] vec4s
+layout(binding = 0) uniform textureBuffer products;  // [36][tiles][ceil(channels / 4)] vec4s
 layout(std430, binding = 1) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 2) writeonly buffer Output { sfloat dst[]; };
 
