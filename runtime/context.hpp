@@ -92,7 +92,7 @@ class Context {
 
   const vk::raii::Device& device() const { return device_; }
   const vk::raii::PhysicalDevice& physical_device() const { return physical_device_; }
-  // Whether shaders can read `format` through a uniform texel buffer (samplerBuffer).
+  // Whether shaders can read `format` through a uniform texel buffer (textureBuffer).
   bool supports_uniform_texel_format(vk::Format format) const;
   const vk::raii::Queue& queue() const { return queue_; }
   std::uint32_t queue_family() const { return queue_family_; }

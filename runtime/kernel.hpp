@@ -22,7 +22,7 @@ struct KernelSpec {
   std::uint32_t push_constant_bytes = 0;
   std::vector<std::uint32_t> specialization;  // value of constant_id i (ints, or floats bit-cast)
   // Per binding (may be shorter than `bindings`): eUndefined = storage buffer, else a read-only uniform texel
-  // buffer (GLSL samplerBuffer) viewed with this format. CPU drivers fetch texels with vector gathers where
+  // buffer (GLSL textureBuffer) viewed with this format. CPU drivers fetch texels with vector gathers where
   // they load storage buffers one lane at a time, so hot read-only operands are read through texel views.
   std::vector<vk::Format> texel_formats;
 
