@@ -1,6 +1,8 @@
 #include "runtime/ops.hpp"
 
 #include <initializer_list>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -29,9 +31,12 @@ struct GemmPush {
 };
 // Output rows per invocation of shaders/gemm.comp (its ROWS).
 constexpr std::uint32_t kGemmRows = 3;
-// GemmPush::flags, as in shaders/gemm.comp and gemm_tiled.comp (vec4 K/N: gemm.comp only).
+// GemmPush::flags, as in shaders/gemm.comp and gemm_tiled.comp (gemm_tiled reads only the transpose and ReLU
+// flags; vec4 K/N: gemm.comp only).
 constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGemmAccumulate = 8, kGemmVec4K = 16,
                         kGemmVec4N = 32, kGemmRowBias = 64;
+// gemm_tiled_body.glsl's kBiasPer specialization constant.
+constexpr std::uint32_t kGemmNoBias = 0, kGemmBiasPerColumn = 1, kGemmBiasPerRow = 2;
 
 // Output channels and pixels per invocation of conv3x3_tiled.comp (and pixels of conv1x1_tiled.comp).
 constexpr std::uint32_t kTiledConvChannels = 8, kTiledConvPixels = 4, kTiledConvRows = 3;
@@ -199,14 +204,38 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
     const bool wide =
         choice == GemmKernel::tiled_wide || (choice == GemmKernel::automatic && context.caps().type == "cpu");
     tile_ = wide ? TiledGemmTile{8, 16} : TiledGemmTile{4, 8};
-    const auto tiled = [&](bool vec4_store) {
-      return KernelSpec{.op = wide ? "gemm_tiled_wide" : "gemm_tiled", .precision = precision, .bindings = 4,
-                        .written_bindings = 1u << 3, .push_constant_bytes = sizeof(GemmPush),
-                        .specialization = {kGroupX * kGroupY, vec4_store ? 1u : 0u}, .texel_formats = {texel, texel}};
-    };
-    tiled_kernel_.emplace(context, tiled(false));
-    tiled_vec4_store_kernel_.emplace(context, tiled(true));
+    tiled_ = std::make_unique<TiledVariants>(
+        context, KernelSpec{.op = wide ? "gemm_tiled_wide" : "gemm_tiled", .precision = precision, .bindings = 4,
+                            .written_bindings = 1u << 3, .push_constant_bytes = sizeof(GemmPush),
+                            .texel_formats = {texel, texel}});
   }
+}
+
+Gemm::Gemm(Gemm&&) noexcept = default;
+Gemm::~Gemm() = default;
+
+struct Gemm::TiledVariants {
+  TiledVariants(const Context& c, KernelSpec s) : context(c), spec(std::move(s)) {}
+  const Context& context;
+  KernelSpec spec;  // without its specialization constants
+  std::mutex mutex;
+  std::map<std::uint32_t, Kernel> kernels;  // by specialization key; map nodes stay put as variants are added
+};
+
+// The epilogue is specialised rather than read from push-constant flags: lavapipe runs both sides of a branch
+// under lane masks, so a flag left off still ran the bias loads and the accumulating load of C, each a scalar
+// loop over the lanes. SuperPoint's Winograd GEMMs (K = 64) use neither: conv1b's GEMM stage was faster in
+// each of three alternating pairs (157 -> 141, 222 -> 175, 208 -> 188 ms at 640x480).
+const Kernel& Gemm::tiled_kernel(bool vec4_store, bool accumulate, std::uint32_t bias_per) const {
+  const std::uint32_t key = (vec4_store ? 1u : 0u) | (accumulate ? 2u : 0u) | (bias_per << 2);
+  const std::lock_guard lock(tiled_->mutex);
+  auto it = tiled_->kernels.find(key);
+  if (it == tiled_->kernels.end()) {
+    KernelSpec spec = tiled_->spec;
+    spec.specialization = {kGroupX * kGroupY, vec4_store ? 1u : 0u, accumulate ? 1u : 0u, bias_per};
+    it = tiled_->kernels.try_emplace(key, tiled_->context, std::move(spec)).first;
+  }
+  return it->second;
 }
 
 namespace {
@@ -222,7 +251,7 @@ std::uint32_t leading_c(const GemmShape& s) { return s.ldc ? s.ldc : s.n; }
 }  // namespace
 
 bool Gemm::uses_tiled_kernel(const GemmShape& s, const Binding& a, const Binding& b) const {
-  if (!tiled_kernel_) return false;
+  if (!tiled_) return false;
   // Texel views start at the binding offsets (256 bytes satisfies every device's texel offset alignment) and
   // must stay within the device's texel count; A is read along K, B along K (B^T) or N, a whole texel at a time.
   // 16-bit texels hold 8 columns of B: N must fill them (the kernel clamps a tile's columns to the last whole texel).
@@ -257,7 +286,8 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   Groups groups;
   if (tiled) {
     const bool vec4_store = c.offset % 16 == 0 && multiples_of_4({s.n, ldc, s.c_offset, s.c_batch_stride});
-    kernel = vec4_store ? &*tiled_vec4_store_kernel_ : &*tiled_kernel_;
+    kernel = &tiled_kernel(vec4_store, s.accumulate, !bias ? kGemmNoBias : s.bias_per_row ? kGemmBiasPerRow
+                                                                                           : kGemmBiasPerColumn);
     groups = {groups_for(s.n, tile_.cols), groups_for(groups_for(s.m, tile_.rows), kGroupX * kGroupY), s.batch};
   } else {
     // vec4 loads need every vec4 to start at a multiple of 4 elements (and the binding offsets at 16 bytes).

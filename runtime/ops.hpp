@@ -2,6 +2,7 @@
 // Host side of the generic neural-network kernels in shaders/: each op owns its pipeline and records one
 // dispatch into a Sequence. Activations are CHW planes with an optional zero border (shaders/include/tensor.glsl).
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -126,6 +127,8 @@ struct TiledGemmTile {
 class Gemm {
  public:
   Gemm(const Context& context, Precision precision, GemmKernel choice = GemmKernel::automatic);
+  Gemm(Gemm&&) noexcept;
+  ~Gemm();
   // Whether a call with this shape and these bindings runs the tiled kernel.
   bool uses_tiled_kernel(const GemmShape& shape, const Binding& a, const Binding& b) const;
   // `bias` (N floats, fp32; M with GemmShape::bias_per_row) may be null.
@@ -139,10 +142,14 @@ class Gemm {
   TiledGemmTile tiled_tile() const { return tile_; }
 
  private:
+  // gemm_tiled.comp (or gemm_tiled_wide.comp) specialised for one epilogue: C stored a whole vec4 at a time or
+  // one element at a time, C accumulated or not, bias none / per column / per row. Built at the first call that
+  // needs it (12 possible; SuperPoint's Winograd GEMMs use one), shared by all threads.
+  struct TiledVariants;
+  const Kernel& tiled_kernel(bool vec4_store, bool accumulate, std::uint32_t bias_per) const;
+
   Kernel kernel_;
-  // gemm_tiled.comp (or gemm_tiled_wide.comp) storing C one element at a time, and a whole vec4 at a time
-  // (kVec4Store).
-  std::optional<Kernel> tiled_kernel_, tiled_vec4_store_kernel_;
+  std::unique_ptr<TiledVariants> tiled_;  // null where the device cannot read the operands as texels
   TiledGemmTile tile_;
   std::size_t max_texel_elements_;
   std::size_t element_bytes_;

@@ -1,7 +1,7 @@
-// C = alpha * A * op(B) + bias (+ C when accumulating) (+ ReLU): the operation and push constants of gemm.comp,
-// for operands the host has checked to be aligned to whole texels (kPerTexel elements, below) along K (A, and B
-// when transposed) or along N (B when not transposed). The body of gemm_tiled.comp (4 x 8 tiles) and
-// gemm_tiled_wide.comp (8 x 16 tiles).
+// C = alpha * A * op(B) + bias (+ C when accumulating) (+ ReLU): the operation and push constants of gemm.comp
+// (bias and accumulation chosen by specialization constants here, not by its flags), for operands the host has
+// checked to be aligned to whole texels (kPerTexel elements, below) along K (A, and B when transposed) or along N
+// (B when not transposed). The body of gemm_tiled.comp (4 x 8 tiles) and gemm_tiled_wide.comp (8 x 16 tiles).
 //
 // Each invocation computes ROWS rows x COLS columns of C; per step of kPerTexel along K it fetches its ROWS rows
 // of A (one texel each) and the kPerTexel x COLS slice of op(B) (COLS texels, the same for every lane of a
@@ -38,6 +38,11 @@ layout(local_size_x_id = 0, local_size_y = 1, local_size_z = 1) in;
 // per-lane store loops of the scalar epilogue cost the vec4 one a third of its time at K = 64 when they ran
 // (masked off) beside it (400x400x64 B^T fp32 2.2 -> 1.6 ms).
 layout(constant_id = 1) const bool kVec4Store = false;
+// The rest of the epilogue is specialised the same way, for the same reason: with the bias and accumulation
+// chosen by push-constant flags, their loads (each a scalar loop over the lanes) ran masked off in every call
+// that used neither, SuperPoint's Winograd GEMMs (K = 64) among them.
+layout(constant_id = 2) const bool kAccumulateC = false;  // C += result (the ReLU, if any, applies to the sum)
+layout(constant_id = 3) const uint kBiasPer = 0;          // 0: no bias; 1: one per column of C (N); 2: per row (M)
 
 // fp32: four elements per RGBA32F texel. 16-bit storage: eight halves per RGBA32UI texel, unpacked here: a
 // texel fetch costs lavapipe about the same whatever the format, so packing 8 halves halves the fetches per
@@ -64,8 +69,7 @@ layout(std430, binding = 2) readonly buffer Bias { float bias[]; };
 layout(std430, binding = 3) buffer MatC { sfloat c[]; };
 layout(std430, binding = 3) buffer MatC4 { svec4 c4[]; };
 
-const uint kTransposedB = 1u, kBias = 2u, kRelu = 4u, kAccumulate = 8u;
-const uint kRowBias = 64u;  // with kBias: one bias per row of C (M values) instead of per column
+const uint kTransposedB = 1u, kRelu = 4u;  // the flags read here (gemm.comp's others are specialised here)
 
 layout(push_constant) uniform Params {
   uint m, n, k;
@@ -166,29 +170,27 @@ void main() {
   // constants, or the compiler turns it into a memory array that every FMA of the K loop reads and writes
   // (lavapipe then stores it lane by lane under the execution mask, which made this kernel 2-3x slower).
   const uint c_base = p.c_offset + batch * p.c_batch;
-  const bool row_bias = (p.flags & (kBias | kRowBias)) == (kBias | kRowBias);
   float bias_of_row[kRows];
   [[unroll]] for (uint i = 0; i < kRows; ++i) bias_of_row[i] = 0.0;
-  if (row_bias) [[unroll]] for (uint i = 0; i < kRows; ++i) bias_of_row[i] = bias[min(m0 + i, p.m - 1u)];
+  if (kBiasPer == 2u) [[unroll]] for (uint i = 0; i < kRows; ++i) bias_of_row[i] = bias[min(m0 + i, p.m - 1u)];
   [[unroll]] for (uint h = 0; h < kColVecs; ++h) {
     const uint col = n0 + 4u * h;
     if (col < p.n) {
       vec4 bias4 = vec4(0);
-      if ((p.flags & kBias) != 0u && !row_bias)
-        [[unroll]] for (uint j = 0; j < 4u; ++j) bias4[j] = bias[min(col + j, p.n - 1u)];
+      if (kBiasPer == 1u) [[unroll]] for (uint j = 0; j < 4u; ++j) bias4[j] = bias[min(col + j, p.n - 1u)];
       [[unroll]] for (uint i = 0; i < kRows; ++i) {
         if (m0 + i < p.m) {
           const uint at = c_base + (m0 + i) * p.ldc + col;
           vec4 v = p.alpha * acc[i][h] + bias4 + bias_of_row[i];
           if (kVec4Store) {  // whole aligned vec4: one store
-            if ((p.flags & kAccumulate) != 0u) v += vec4(c4[at / 4u]);
+            if (kAccumulateC) v += vec4(c4[at / 4u]);
             if ((p.flags & kRelu) != 0u) v = max(v, 0.0);
             c4[at / 4u] = svec4(v);
           } else {
             [[unroll]] for (uint j = 0; j < 4u; ++j) {
               if (col + j < p.n) {
                 float x = v[j];
-                if ((p.flags & kAccumulate) != 0u) x += float(c[at + j]);
+                if (kAccumulateC) x += float(c[at + j]);
                 if ((p.flags & kRelu) != 0u) x = max(x, 0.0);
                 c[at + j] = sfloat(x);
               }

@@ -265,6 +265,8 @@ void check_gemm(Precision precision, GemmShape s, bool with_bias, std::uint32_t 
   const auto a = as_stored(random_values(std::size_t(s.m) * s.k, seed), precision);
   const auto b = as_stored(random_values(std::size_t(s.k) * s.n, seed + 1), precision);
   const auto bias = random_values(s.bias_per_row ? s.m : s.n, seed + 2);
+  // C's prior contents: what an accumulating call adds to (a residual connection), else overwritten.
+  const auto c_before = as_stored(random_values(std::size_t(s.m) * s.n, seed + 3), precision);
   std::vector<float> expected(std::size_t(s.m) * s.n);
   for (std::uint32_t i = 0; i < s.m; ++i)
     for (std::uint32_t j = 0; j < s.n; ++j) {
@@ -272,13 +274,14 @@ void check_gemm(Precision precision, GemmShape s, bool with_bias, std::uint32_t 
       for (std::uint32_t k = 0; k < s.k; ++k)
         acc += double(a[i * s.k + k]) * (s.b_transposed ? b[j * s.k + k] : b[k * s.n + j]);
       float v = s.alpha * float(acc) + (with_bias ? bias[s.bias_per_row ? i : j] : 0.0f);
+      if (s.accumulate) v += c_before[i * s.n + j];
       expected[i * s.n + j] = s.relu ? std::max(v, 0.0f) : v;
     }
   auto a_buf = test::upload_tensor(ctx, a, precision);
   auto b_buf = test::upload_tensor(ctx, b, precision);
   Buffer bias_buf(ctx, bias.size() * sizeof(float));
   bias_buf.upload(std::span<const float>(bias));
-  Buffer c_buf(ctx, expected.size() * storage_bytes(precision));
+  Buffer c_buf = test::upload_tensor(ctx, c_before, precision);
   const Gemm gemm(ctx, precision, kernel);
   if (kernel == GemmKernel::tiled || kernel == GemmKernel::tiled_wide) {
     ASSERT_TRUE(gemm.uses_tiled_kernel(s, Binding(a_buf), Binding(b_buf))) << "shape should be vec4-aligned";
@@ -320,6 +323,13 @@ TEST_P(Kernels, GemmTiledKernelMatchesReference) {
     // One bias per row (a 1x1 convolution's per output channel), with a partial row group.
     check_gemm(precision(), {.m = 19, .n = 3 * per_texel, .k = 16, .b_transposed = false, .bias_per_row = true}, true,
                57, tiled);
+    // Accumulating into C (SuperGlue's residual), ReLU on the sum: vec4 stores (N = 64) and element stores (N = 23),
+    // with and without a bias; every epilogue is its own specialised pipeline.
+    check_gemm(precision(), {.m = 37, .n = 64, .k = 32, .b_transposed = true, .relu = true, .accumulate = true}, true,
+               58, tiled);
+    check_gemm(precision(), {.m = 37, .n = 23, .k = 32, .b_transposed = true, .accumulate = true}, false, 59, tiled);
+    check_gemm(precision(), {.m = 19, .n = 2 * per_texel, .k = 16, .b_transposed = false, .accumulate = true,
+                             .bias_per_row = true}, true, 60, tiled);
   }
 }
 
