@@ -5,6 +5,7 @@
 // (about 0.07 ms on 2 cores, 14 ms of SuperGlue's 100 iterations whatever N), while one workgroup runs on one
 // thread, so this pays only while a half-iteration's work is small (the host chooses by the size of Z).
 // The couplings come as superglue_sinkhorn_tiled.comp takes them: Z's rows and Z^T's rows, padded to texels.
+#include "texel_buffer.glsl"
 layout(local_size_x = 128) in;
 
 layout(binding = 0) uniform textureBuffer by_row;     // rows x row_texels texels: Z's rows
@@ -26,7 +27,6 @@ const uint kMaxTexels = 256;
 shared vec4 potential[2][kMaxTexels];  // [0]: rows (u), [1]: columns (v)
 uint other_axis = 1u;                 // the axis whose potential the current half reads
 #define SINKHORN_OTHER(e) potential[other_axis][e]
-#include "texel_buffer.glsl"
 #include "sinkhorn_line.glsl"
 
 // Potential of `lines` lines of `couplings` into potential[axis], reading potential[1 - axis].

@@ -4,6 +4,7 @@
 // halves walk rows in memory order) and the other axis' potential are fetched 4 entries at a time.
 // superglue_sinkhorn.comp read both through storage buffers, which lavapipe loads one lane at a time, and walked
 // the columns with a stride of a whole row: 0.2-3.7 s of SuperGlue's 1.1-12 s at N = 200-1000 on lavapipe.
+#include "texel_buffer.glsl"
 layout(local_size_x = 64) in;
 
 layout(binding = 0) uniform textureBuffer couplings;  // lines x (texels * 4): row t holds Z's line t of this axis
@@ -18,7 +19,6 @@ layout(push_constant) uniform Params {
 } p;
 
 #define SINKHORN_OTHER(e) texelFetch(other, int(e))
-#include "texel_buffer.glsl"
 #include "sinkhorn_line.glsl"
 
 void main() {

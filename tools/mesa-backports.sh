@@ -8,6 +8,7 @@
 set -euo pipefail
 
 dir=$(realpath -m "${1:-$HOME/.cache/vkvo/mesa-backports}")
+rm -rf "$dir/debs" "$dir/root"  # a rerun unpacks what backports has now, not beside an older version
 mkdir -p "$dir/apt/lists/partial" "$dir/debs" "$dir/root"
 echo "deb http://deb.debian.org/debian bookworm-backports main" > "$dir/apt/sources.list"
 # A private package list: the system's apt state is neither read nor changed.
