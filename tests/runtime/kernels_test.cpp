@@ -302,6 +302,8 @@ TEST_P(Kernels, GemmMatchesReference) {
   check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true, 42);
   check_gemm(precision(), {.m = 1, .n = 1, .k = 3, .b_transposed = true}, false, 43);
   check_gemm(precision(), {.m = 11, .n = 24, .k = 8, .b_transposed = false, .bias_per_row = true}, true, 44);
+  check_gemm(precision(), {.m = 21, .n = 30, .k = 17, .b_transposed = true, .relu = true, .accumulate = true}, true,
+             45);
 }
 
 // The tiled kernel with either tile (4 x 8 or 8 x 16 blocks of C, operands through texel buffers of 4 fp32 or
