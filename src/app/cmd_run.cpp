@@ -105,7 +105,7 @@ int run(const Options& o) {
 vkvo::app::CommandRegistration registration{
     {"run", "run the stereo VO on an EuRoC/ASL or KITTI folder", [](CLI::App& sub) {
        auto o = std::make_shared<Options>();
-       sub.add_option("--config", o->config, "YAML configuration (config/euroc.yaml, config/kitti.yaml)")
+       sub.add_option("--config", o->config, "YAML configuration (config/euroc.yaml, kitti.yaml, oivio.yaml, uma_vi.yaml)")
            ->check(CLI::ExistingFile);
        sub.add_option("--dataset", o->dataset, "dataset folder (EuRoC mav0 or its parent; KITTI sequence)")->required();
        sub.add_option("--out", o->out, "output folder");

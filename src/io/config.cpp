@@ -1,5 +1,7 @@
 #include "io/config.hpp"
 
+#include <optional>
+
 #include <fmt/format.h>
 
 #include "io/yaml_utils.hpp"
@@ -81,14 +83,24 @@ void apply_per_camera_keys(const YAML::Node& node, const std::string& name, Came
     }
   }
   read_param(node, "distortion_coeffs", camera.distortion_coeffs);
-  const auto transform = param<std::vector<double>>(node, "T_body_camera", {});
-  if (!transform.empty()) {
+  // The camera's pose on the body as EuRoC's T_BS gives it (camera -> body), or as Kalibr's T_cam_imu does
+  // (body -> camera; UMA-VI publishes that one), so that either can be pasted as published.
+  const auto read_transform = [&](const char* key) -> std::optional<Eigen::Isometry3d> {
+    const auto values = param<std::vector<double>>(node, key, {});
+    if (values.empty()) return std::nullopt;
     try {
-      camera.T_body_camera = isometry_from_row_major(transform);
+      return isometry_from_row_major(values);
     } catch (const std::invalid_argument& e) {
-      throw std::runtime_error(fmt::format("config key 'camera.{}.T_body_camera': {}", name, e.what()));
+      throw std::runtime_error(fmt::format("config key 'camera.{}.{}': {}", name, key, e.what()));
     }
-  }
+  };
+  const auto body_camera = read_transform("T_body_camera");
+  const auto camera_body = read_transform("T_camera_body");
+  if (body_camera && camera_body)
+    throw std::runtime_error(fmt::format(
+        "config section 'camera.{}': give T_body_camera or T_camera_body, not both", name));
+  if (body_camera) camera.T_body_camera = *body_camera;
+  if (camera_body) camera.T_body_camera = camera_body->inverse();
 }
 
 }  // namespace

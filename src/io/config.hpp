@@ -79,8 +79,9 @@ void read_param(const YAML::Node& section, const std::string& key, T& value) {
 //   rectified                               bool
 //   left: {...}, right: {...}               per camera: width height fx fy cx cy
 //                                           distortion_model (none|radtan|equidistant), distortion_coeffs [..],
-//                                           T_body_camera (16 numbers, row-major 4x4)
-// Throws naming the key on a wrong type or an unknown distortion model.
+//                                           T_body_camera (16 or 12 numbers, row-major; camera -> body, EuRoC's
+//                                           T_BS) or T_camera_body (body -> camera, Kalibr's T_cam_imu)
+// Throws naming the key on a wrong type, an unknown distortion model or both transforms given.
 StereoCalibration apply_camera_overrides(const YAML::Node& camera, StereoCalibration base);
 
 // Throws std::runtime_error naming `source` and the first missing/invalid field (size, focal length, principal

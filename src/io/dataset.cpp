@@ -1,5 +1,7 @@
 #include "io/dataset.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <stdexcept>
 
@@ -20,6 +22,14 @@ const char* to_string(DatasetKind kind) {
     case DatasetKind::kitti: return "kitti";
   }
   return "unknown";
+}
+
+bool is_image_file(const fs::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* known : {".png", ".jpg", ".jpeg", ".pgm", ".ppm", ".bmp", ".tif", ".tiff"})
+    if (ext == known) return true;
+  return false;
 }
 
 DatasetOptions load_dataset_options(const YAML::Node& dataset_section, const YAML::Node& camera_section) {

@@ -48,6 +48,9 @@ struct DatasetOptions {
   std::int64_t max_stereo_dt_ns = 1'000'000;
 };
 
+// Whether a file name has an image extension the readers decode (png, jpg, jpeg, pgm, ppm, bmp, tif, tiff; any case).
+bool is_image_file(const std::filesystem::path& file);
+
 // Reads a `dataset:` config section: first_frame (0), last_frame (-1 = to the end, inclusive), stride (1),
 // max_stereo_dt_ms (1.0). `camera` is the `camera:` section kept as overrides (may be empty).
 DatasetOptions load_dataset_options(const YAML::Node& dataset_section, const YAML::Node& camera_section = {});
@@ -101,8 +104,10 @@ class StereoDataset {
 };
 
 // EuRoC / ASL folder: accepts the `mav0` folder, the sequence folder that contains it, or a folder whose only
-// sequence child contains it (e.g. .../euroc_mh01_subset). Calibration from cam0/cam1 sensor.yaml; stereo
-// pairs from cam0/data.csv and cam1/data.csv matched by timestamp.
+// sequence child contains it (e.g. .../euroc_mh01_subset). Calibration from cam0/cam1 sensor.yaml, or where they
+// are missing from the config's camera section (DatasetOptions::camera_overrides; the image size then comes from
+// the first image); stereo pairs from cam0/data.csv and cam1/data.csv matched by timestamp, or without them from
+// the images in cam0/data and cam1/data named by their nanosecond timestamps (AirVO's layout).
 class EurocDataset final : public StereoDataset {
  public:
   explicit EurocDataset(const std::filesystem::path& path, const DatasetOptions& options = {});

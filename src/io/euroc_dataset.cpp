@@ -1,10 +1,13 @@
-// EuRoC / ASL folder reader: mav0/cam{0,1}/{data.csv, data/, sensor.yaml}.
+// EuRoC / ASL folder reader: mav0/cam{0,1}/{data.csv, data/, sensor.yaml}. Folders extracted from other
+// datasets' bags (OIVIO, UMA-VI) often lack data.csv or sensor.yaml: images named by their timestamps and the
+// calibration in the config's camera section stand in for them (config/oivio.yaml, config/uma_vi.yaml).
 #include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
 #include "io/dataset.hpp"
@@ -17,9 +20,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool is_mav0(const fs::path& dir) {
-  return fs::is_regular_file(dir / "cam0" / "data.csv") && fs::is_regular_file(dir / "cam1" / "data.csv");
+// A camera folder lists its images in data.csv or, without one, holds them in data/ named by timestamp.
+bool is_camera_folder(const fs::path& cam_dir) {
+  return fs::is_regular_file(cam_dir / "data.csv") || fs::is_directory(cam_dir / "data");
 }
+
+bool is_mav0(const fs::path& dir) { return is_camera_folder(dir / "cam0") && is_camera_folder(dir / "cam1"); }
 
 struct CameraEntry {
   std::int64_t timestamp_ns;
@@ -36,6 +42,34 @@ std::vector<CameraEntry> read_camera_csv(const fs::path& cam_dir) {
       throw std::runtime_error(fmt::format("{}:{}: expected 'timestamp,filename'", csv.string(), line_number));
     entries.push_back({parse_timestamp_ns(fields[0], csv, line_number), cam_dir / "data" / fields[1]});
   });
+  return entries;
+}
+
+// cam<i>/data/ without a data.csv: every image named "<timestamp in ns>.<ext>", as AirVO's reader expects and
+// bag-extraction tools write them.
+std::vector<CameraEntry> read_camera_folder(const fs::path& cam_dir) {
+  std::vector<CameraEntry> entries;
+  for (const auto& entry : fs::directory_iterator(cam_dir / "data")) {
+    if (!entry.is_regular_file() || !is_image_file(entry.path())) continue;
+    std::int64_t timestamp_ns = 0;
+    try {
+      timestamp_ns = parse_timestamp_ns(entry.path().stem().string(), entry.path(), 0);
+    } catch (const std::runtime_error&) {
+      throw std::runtime_error(fmt::format(
+          "{}: without {} every image must be named by its timestamp in nanoseconds", entry.path().string(),
+          (cam_dir / "data.csv").string()));
+    }
+    entries.push_back({timestamp_ns, entry.path()});
+  }
+  if (entries.empty())
+    throw std::runtime_error(
+        fmt::format("{}: no data.csv and no images in {}", cam_dir.string(), (cam_dir / "data").string()));
+  return entries;
+}
+
+// The camera's images sorted by timestamp, from data.csv where there is one.
+std::vector<CameraEntry> read_camera_images(const fs::path& cam_dir) {
+  auto entries = fs::is_regular_file(cam_dir / "data.csv") ? read_camera_csv(cam_dir) : read_camera_folder(cam_dir);
   std::sort(entries.begin(), entries.end(),
             [](const CameraEntry& a, const CameraEntry& b) { return a.timestamp_ns < b.timestamp_ns; });
   return entries;
@@ -136,17 +170,41 @@ EurocDataset::EurocDataset(const fs::path& path, const DatasetOptions& options) 
   const auto mav0 = find_root(path);
   if (!mav0)
     throw std::runtime_error(fmt::format(
-        "{}: not an EuRoC dataset (no mav0/cam0/data.csv and mav0/cam1/data.csv, or several sequences)",
+        "{}: not an EuRoC dataset (no mav0/cam0 and mav0/cam1 with data.csv or data/, or several sequences)",
         path.string()));
   root_ = *mav0;
   name_ = root_.filename() == "mav0" ? root_.parent_path().filename().string() : root_.filename().string();
 
-  calibration_.left = read_euroc_camera_yaml(root_ / "cam0" / "sensor.yaml");
-  calibration_.right = read_euroc_camera_yaml(root_ / "cam1" / "sensor.yaml");
-  calibration_.rectified = false;
+  const auto left = read_camera_images(root_ / "cam0");
+  const auto right = read_camera_images(root_ / "cam1");
 
-  const auto left = read_camera_csv(root_ / "cam0");
-  const auto right = read_camera_csv(root_ / "cam1");
+  // sensor.yaml, or where it is missing the config's camera section (validated in finish()) with the image size
+  // taken from the first image.
+  const bool config_gives_cameras = options.camera_overrides.IsDefined() && !options.camera_overrides.IsNull();
+  std::string source = (root_ / "cam{0,1}" / "sensor.yaml").string();
+  const auto read_calibration = [&](const char* cam, const std::vector<CameraEntry>& images) {
+    const fs::path sensor_yaml = root_ / cam / "sensor.yaml";
+    if (fs::is_regular_file(sensor_yaml) || !config_gives_cameras) {
+      if (!fs::is_regular_file(sensor_yaml))
+        throw std::runtime_error(fmt::format(
+            "{}: calibration file is missing (or give the cameras in the config's camera section)",
+            sensor_yaml.string()));
+      return read_euroc_camera_yaml(sensor_yaml);
+    }
+    source += fmt::format(" ({} missing)", cam);
+    if (images.empty()) throw std::runtime_error(fmt::format("{}: lists no images", (root_ / cam).string()));
+    CameraCalibration camera;
+    const fs::path& first = images.front().image;
+    const cv::Mat image = cv::imread(first.string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty())
+      throw std::runtime_error(fmt::format("{}: cannot decode image (corrupt or unsupported)", first.string()));
+    camera.width = image.cols;
+    camera.height = image.rows;
+    return camera;
+  };
+  calibration_.left = read_calibration("cam0", left);
+  calibration_.right = read_calibration("cam1", right);
+  calibration_.rectified = false;
   // Pair by timestamp (both lists sorted): the VI-sensor triggers both cameras together, but a dropped frame on
   // one side must not shift all later pairs.
   std::size_t i = 0, j = 0, unpaired = 0;
@@ -176,7 +234,7 @@ EurocDataset::EurocDataset(const fs::path& path, const DatasetOptions& options) 
   else
     groundtruth_path_ = find_left_cam_groundtruth(root_.parent_path());
 
-  finish(options, (root_ / "cam{0,1}" / "sensor.yaml").string());
+  finish(options, source);
 }
 
 }  // namespace vkvo::io

@@ -29,11 +29,6 @@ std::optional<ImageFolders> image_folders(const fs::path& dir) {
   return std::nullopt;
 }
 
-bool is_image_file(const fs::path& file) {
-  const std::string ext = file.extension().string();
-  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".pgm" || ext == ".tif" || ext == ".tiff";
-}
-
 }  // namespace
 
 StereoCalibration read_kitti_calib(const fs::path& calib_txt) {

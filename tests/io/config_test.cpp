@@ -83,6 +83,28 @@ TEST(CameraOverrides, TransformAndErrors) {
   EXPECT_NE(error_of([&] { io::validate_calibration(no_baseline, "x"); }).find("baseline"), std::string::npos);
 }
 
+// Kalibr's T_cam_imu (body -> camera) is the inverse of EuRoC's T_BS (camera -> body): the same pose either way.
+TEST(CameraOverrides, CameraBodyTransformIsTheInverse) {
+  const YAML::Node camera = YAML::Load(
+      "left:\n  T_body_camera: [0, -1, 0, 0.1,  1, 0, 0, 0.2,  0, 0, 1, 0.3,  0, 0, 0, 1]\n"
+      "right:\n  T_camera_body: [0, 1, 0, -0.2,  -1, 0, 0, 0.1,  0, 0, 1, -0.3]\n");
+  const auto calibration = io::apply_camera_overrides(camera, {});
+  // The right entry is the left one inverted (R^T, -R^T t), so both cameras sit at the same pose.
+  EXPECT_TRUE(calibration.right.T_body_camera.isApprox(calibration.left.T_body_camera, 1e-12))
+      << calibration.right.T_body_camera.matrix();
+  EXPECT_NEAR(calibration.right.T_body_camera.translation().y(), 0.2, 1e-12);
+
+  const std::string both = error_of([] {
+    io::apply_camera_overrides(YAML::Load("left: {T_body_camera: [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0], "
+                                          "T_camera_body: [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0]}"),
+                               {});
+  });
+  EXPECT_NE(both.find("not both"), std::string::npos) << both;
+  EXPECT_NE(error_of([] { io::apply_camera_overrides(YAML::Load("right: {T_camera_body: [1, 0, 0]}"), {}); })
+                .find("camera.right.T_camera_body"),
+            std::string::npos);
+}
+
 TEST(DatasetOptions, FromConfigSection) {
   const auto config = io::Config::from_string(
       "dataset:\n  first_frame: 10\n  last_frame: 99\n  stride: 3\n  max_stereo_dt_ms: 2.5\ncamera:\n  fx: 7\n");

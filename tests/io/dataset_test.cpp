@@ -143,6 +143,62 @@ TEST(EurocDataset, MissingCalibrationFieldNamesFileAndField) {
   EXPECT_NE(message.find("'intrinsics'"), std::string::npos) << message;
 }
 
+// AirVO's layout, as bag extraction leaves OIVIO and UMA-VI: cam0/data and cam1/data with images named by their
+// nanosecond timestamps, no data.csv, no sensor.yaml; the calibration comes from the config's camera section.
+TEST(EurocDataset, ImagesNamedByTimestampWithCamerasFromTheConfig) {
+  const fs::path root = write_euroc(test::temp_dir("euroc_bare"));
+  for (const char* cam : {"cam0", "cam1"}) {
+    fs::remove(root / cam / "data.csv");
+    fs::remove(root / cam / "sensor.yaml");
+  }
+  write_text(root / "cam0" / "data" / "notes.txt", "not an image, ignored");
+
+  // Without a camera section the missing calibration is named, with the way out.
+  std::string message = error_of([&] { io::EurocDataset dataset(root); });
+  EXPECT_NE(message.find((root / "cam0" / "sensor.yaml").string()), std::string::npos) << message;
+  EXPECT_NE(message.find("camera section"), std::string::npos) << message;
+
+  io::DatasetOptions options;
+  options.camera_overrides = YAML::Load(
+      "{fx: 100, fy: 101, cx: 8, cy: 6,"
+      " left: {distortion_model: radtan, distortion_coeffs: [-0.1, 0.01, 0, 0]},"
+      " right: {T_body_camera: [1, 0, 0, 0.11,  0, 1, 0, 0,  0, 0, 1, 0]}}");
+  io::EurocDataset dataset(root.parent_path(), options);  // the sequence folder finds it too
+  ASSERT_EQ(dataset.size(), 4u);  // paired by the timestamps in the names; the unpaired left image is dropped
+  EXPECT_EQ(dataset.frame(2).timestamp_ns, 1'000'000'000'000LL + 3 * 50'000'000LL);
+  EXPECT_EQ(dataset.frame(2).left.filename(), dataset.frame(2).right.filename());
+  EXPECT_EQ(cv::norm(dataset.load_left(2), pattern_image(3), cv::NORM_INF), 0.0);
+  const auto& calibration = dataset.calibration();
+  EXPECT_EQ(calibration.left.width, 16);  // from the first image
+  EXPECT_EQ(calibration.right.height, 12);
+  EXPECT_DOUBLE_EQ(calibration.right.fy, 101.0);
+  EXPECT_EQ(calibration.left.distortion, io::DistortionModel::radtan);
+  EXPECT_NEAR(calibration.baseline(), 0.11, 1e-12);
+
+  // An image whose name is not a timestamp is named, with what the reader expected.
+  const fs::path stray = root / "cam1" / "data" / "frame_0001.png";
+  cv::imwrite(stray.string(), pattern_image(9));
+  message = error_of([&] { io::EurocDataset dataset(root, options); });
+  EXPECT_NE(message.find(stray.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("timestamp in nanoseconds"), std::string::npos) << message;
+  fs::remove(stray);
+
+  // A camera section that leaves a field out still fails validation, naming the field.
+  options.camera_overrides = YAML::Load("{fx: 100, fy: 101, cx: 8}");
+  message = error_of([&] { io::EurocDataset dataset(root, options); });
+  EXPECT_NE(message.find("'cy'"), std::string::npos) << message;
+  EXPECT_NE(message.find("cam0 missing"), std::string::npos) << message;
+}
+
+TEST(EurocDataset, EmptyCameraFolderIsNamed) {
+  const fs::path root = test::temp_dir("euroc_empty");
+  fs::create_directories(root / "cam0" / "data");
+  fs::create_directories(root / "cam1" / "data");
+  const std::string message = error_of([&] { io::open_dataset(root); });
+  EXPECT_NE(message.find("no images"), std::string::npos) << message;
+  EXPECT_NE(message.find((root / "cam0").string()), std::string::npos) << message;
+}
+
 TEST(EurocDataset, CorruptAndMissingImagesNameTheFile) {
   const fs::path mav0 = write_euroc(test::temp_dir("euroc_corrupt"));
   io::EurocDataset dataset(mav0);

@@ -2,7 +2,9 @@
 // the full threaded VO (system::run_vo) with the OpenCV test frontend -> ATE against the rendered ground truth.
 // This is the test that the tracker, the stereo initialisation, keyframes, BA and recovery work on real pixels;
 // the oracle tests (tracker_test, pipeline_test) only see exact projections.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include "common/test_support.hpp"
 #include "system/vo_harness.hpp"
@@ -18,11 +20,22 @@ VoConfig small_preset_config() {
   return load_vo_config(test::source_dir() / "config" / "euroc.yaml");
 }
 
-TEST(VoSynth, TracksTheSmallPresetWithoutLoss) {
+synth::SynthConfig small_preset(int frames) {
   auto synth = synth::synth_preset("small");
-  synth.num_frames = 40;
-  const auto dir = test::temp_dir("vo_synth");
+  synth.num_frames = frames;
+  return synth;
+}
+
+// Renders `synth` into <temp dir named `name`>/seq and returns the temp dir.
+fs::path write_sequence(const synth::SynthConfig& synth, const char* name) {
+  const auto dir = test::temp_dir(name);
   synth::write_synthetic_sequence(synth, dir / "seq");
+  return dir;
+}
+
+TEST(VoSynth, TracksTheSmallPresetWithoutLoss) {
+  const auto synth = small_preset(40);
+  const auto dir = write_sequence(synth, "vo_synth");
 
   const auto run = test::run_vo_with_opencv_frontend(dir / "seq", small_preset_config(), {}, dir / "out");
   EXPECT_EQ(run.result.frames, static_cast<std::size_t>(synth.num_frames));
@@ -39,12 +52,43 @@ TEST(VoSynth, TracksTheSmallPresetWithoutLoss) {
   EXPECT_LT(run.evaluation.ate.translation_m.rmse, 0.15);
 }
 
+// The same sequence in AirVO's folder layout, as OIVIO and UMA-VI bags extract to: no data.csv (images named by
+// their timestamps), no sensor.yaml (the cameras from the config's camera section, as config/oivio.yaml gives
+// them: raw cameras with a distortion model and their poses on the body). Same numbers, same run.
+TEST(VoSynth, RunsFromImageNamesAndTheConfigsCameras) {
+  const auto synth = small_preset(20);
+  const auto dir = write_sequence(synth, "vo_synth_bare");
+  const auto with_files = test::run_vo_with_opencv_frontend(dir / "seq", small_preset_config(), {}, dir / "out0");
+
+  for (const char* cam : {"cam0", "cam1"}) {
+    ASSERT_TRUE(fs::remove(dir / "seq" / "mav0" / cam / "data.csv"));
+    ASSERT_TRUE(fs::remove(dir / "seq" / "mav0" / cam / "sensor.yaml"));
+  }
+  VoConfig config = small_preset_config();
+  const auto& rig = synth.rig;
+  config.camera = YAML::Load(fmt::format(
+      "{{width: {}, height: {}, fx: {}, fy: {}, cx: {}, cy: {},"
+      " left: {{distortion_model: radtan, distortion_coeffs: [0, 0, 0, 0]}},"
+      " right: {{distortion_model: radtan, distortion_coeffs: [0, 0, 0, 0],"
+      " T_body_camera: [1, 0, 0, {},  0, 1, 0, 0,  0, 0, 1, 0]}}}}",
+      rig.width, rig.height, rig.fx, rig.fy, rig.cx, rig.cy, rig.baseline));
+  const auto bare = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "out1");
+
+  test::expect_every_frame_tracked(bare, static_cast<std::size_t>(synth.num_frames));
+  EXPECT_EQ(bare.result.keyframes, with_files.result.keyframes);
+  ASSERT_EQ(bare.trajectory.size(), with_files.trajectory.size());
+  for (std::size_t i = 0; i < bare.trajectory.size(); ++i) {
+    EXPECT_DOUBLE_EQ(bare.trajectory[i].t, with_files.trajectory[i].t);
+    EXPECT_LT((bare.trajectory[i].pose.translation() - with_files.trajectory[i].pose.translation()).norm(), 1e-3)
+        << "frame " << i;
+  }
+  EXPECT_NEAR(bare.evaluation.ate.translation_m.rmse, with_files.evaluation.ate.translation_m.rmse, 1e-3);
+}
+
 TEST(VoSynth, RecoversAfterTheLightsGoOut) {
-  auto synth = synth::synth_preset("small");
-  synth.num_frames = 40;
+  auto synth = small_preset(40);
   synth.events = {synth::make_event(synth::EventKind::lights_off, 15, 19)};  // 5 frames at 2% light
-  const auto dir = test::temp_dir("vo_synth");
-  synth::write_synthetic_sequence(synth, dir / "seq");
+  const auto dir = write_sequence(synth, "vo_synth");
 
   const auto run = test::run_vo_with_opencv_frontend(dir / "seq", small_preset_config(), {}, dir / "out");
   EXPECT_EQ(run.result.frames, static_cast<std::size_t>(synth.num_frames));
