@@ -3,6 +3,7 @@
 #include <atomic>
 #include <csignal>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -27,8 +28,8 @@ struct Options {
   std::string matcher;  // overrides the config
   bool no_lines = false;
   fs::path model, superglue;
-  std::size_t first = 0, stride = 1;
-  long long last = -1;
+  std::optional<std::size_t> first, stride;  // unset: the config's dataset section (or the whole sequence)
+  std::optional<long long> last;
   bool realtime = false;
   std::string precision;
 };
@@ -42,11 +43,13 @@ int run(const Options& o) {
     config.point_matcher["precision"] = o.precision;
   }
 
-  vkvo::io::DatasetOptions dataset_options;
-  dataset_options.range.first = o.first;
-  dataset_options.range.stride = o.stride;
-  if (o.last >= 0) dataset_options.range.last = static_cast<std::size_t>(o.last);
-  dataset_options.camera_overrides = config.camera;
+  vkvo::io::DatasetOptions dataset_options = vkvo::io::load_dataset_options(config.dataset, config.camera);
+  if (o.first) dataset_options.range.first = *o.first;
+  if (o.stride) dataset_options.range.stride = *o.stride;
+  if (o.last) {
+    if (*o.last >= 0) dataset_options.range.last = static_cast<std::size_t>(*o.last);
+    else dataset_options.range.last.reset();
+  }
   const auto dataset = vkvo::io::open_dataset(o.dataset, dataset_options);
   spdlog::info("dataset {} ({}): {} stereo frames", dataset->name(), vkvo::io::to_string(dataset->kind()),
                dataset->size());
@@ -114,9 +117,9 @@ vkvo::app::CommandRegistration registration{
        sub.add_flag("--no-lines", o->no_lines, "points only (the paper's w/o-line ablation)");
        sub.add_option("--model", o->model, "SuperPoint pack or ONNX (default: config, $VKVO_MODELS, ../shared/models)");
        sub.add_option("--superglue", o->superglue, "SuperGlue pack or ONNX (default: config models.superglue)");
-       sub.add_option("--first", o->first, "first frame index");
-       sub.add_option("--last", o->last, "last frame index (inclusive)");
-       sub.add_option("--stride", o->stride, "use every n-th frame")->check(CLI::PositiveNumber);
+       sub.add_option("--first", o->first, "first frame index (overrides the config's dataset.first_frame)");
+       sub.add_option("--last", o->last, "last frame index, inclusive; -1: to the end (dataset.last_frame)");
+       sub.add_option("--stride", o->stride, "use every n-th frame (dataset.stride)")->check(CLI::PositiveNumber);
        sub.add_flag("--realtime", o->realtime, "play the sequence back at its recorded rate");
        sub.add_option("--precision", o->precision, "network precision: auto | fp32 | fp16s | fp16");
        return std::function<int()>([o] { return run(*o); });

@@ -51,7 +51,45 @@ bool Config::has_section(const std::string& name) const {
   return node.IsDefined() && !node.IsNull();
 }
 
+namespace {
+thread_local KeyReadLog* current_key_log = nullptr;
+}  // namespace
+
+KeyReadLog::KeyReadLog() : outer_(current_key_log) { current_key_log = this; }
+KeyReadLog::~KeyReadLog() { current_key_log = outer_; }
+
+void KeyReadLog::note(const YAML::Node& section, const std::string& key) { reads_.emplace_back(section, key); }
+
+bool KeyReadLog::was_read(const YAML::Node& section, const std::string& key) const {
+  for (const auto& [node, read_key] : reads_)
+    if (read_key == key && node.is(section)) return true;
+  return false;
+}
+
+std::vector<std::string> KeyReadLog::unread(const YAML::Node& node, const std::string& prefix) const {
+  std::vector<std::string> keys;
+  if (!node.IsMap()) return keys;
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    const std::string path = prefix.empty() ? key : prefix + "." + key;
+    const YAML::Node& value = entry.second;
+    const auto append = [&](std::vector<std::string> more) { keys.insert(keys.end(), more.begin(), more.end()); };
+    if (value.IsMap()) {
+      append(unread(value, path));
+    } else if (value.IsSequence() && value.size() > 0 && value[0].IsMap()) {
+      for (std::size_t i = 0; i < value.size(); ++i) append(unread(value[i], fmt::format("{}[{}]", path, i)));
+    } else if (!was_read(node, key)) {
+      keys.push_back(fmt::format("{} (line {})", path, entry.first.Mark().line + 1));
+    }
+  }
+  return keys;
+}
+
 namespace detail {
+void note_key_read(const YAML::Node& section, const std::string& key) {
+  if (current_key_log) current_key_log->note(section, key);
+}
+
 void throw_param_error(const YAML::Node& node, const std::string& key, const char* expected) {
   const auto mark = node.Mark();
   const std::string where = mark.is_null() ? std::string() : fmt::format(" (line {})", mark.line + 1);

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -39,7 +41,29 @@ class Config {
   std::string origin_;
 };
 
+// Records the keys that param() reads on this thread while it lives, so that a loader can name the keys of a file
+// that nothing read: a misspelt key would otherwise leave its parameter at the default without a word. Logs nest
+// (the innermost one records).
+class KeyReadLog {
+ public:
+  KeyReadLog();
+  ~KeyReadLog();
+  KeyReadLog(const KeyReadLog&) = delete;
+  KeyReadLog& operator=(const KeyReadLog&) = delete;
+
+  void note(const YAML::Node& section, const std::string& key);
+  // The keys under `node` that were not read, as dotted paths from `prefix` with their lines ("lines.detector.fld.
+  // lenght_threshold (line 30)"). Maps are walked into, also in lists; a scalar or a list of scalars is one key.
+  std::vector<std::string> unread(const YAML::Node& node, const std::string& prefix = "") const;
+
+ private:
+  bool was_read(const YAML::Node& section, const std::string& key) const;
+  std::vector<std::pair<YAML::Node, std::string>> reads_;
+  KeyReadLog* outer_;
+};
+
 namespace detail {
+void note_key_read(const YAML::Node& section, const std::string& key);  // to the current KeyReadLog, if any
 [[noreturn]] void throw_param_error(const YAML::Node& node, const std::string& key, const char* expected);
 template <typename T>
 constexpr const char* type_name() {
@@ -56,6 +80,7 @@ constexpr const char* type_name() {
 template <typename T>
 T param(const YAML::Node& section, const std::string& key, const T& fallback) {
   if (!section.IsDefined() || !section.IsMap()) return fallback;
+  detail::note_key_read(section, key);
   const YAML::Node node = section[key];
   if (!node.IsDefined() || node.IsNull()) return fallback;
   try {

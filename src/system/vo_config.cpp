@@ -4,6 +4,14 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "features/nn_matcher.hpp"
+#include "features/superglue.hpp"
+#include "features/superpoint.hpp"
+#include "io/dataset.hpp"
+
 namespace vkvo::system {
 
 TrackingParams load_tracking_params(const YAML::Node& section) {
@@ -21,6 +29,7 @@ TrackingParams load_tracking_params(const YAML::Node& section) {
 }
 
 VoConfig load_vo_config(const io::Config& config) {
+  io::KeyReadLog key_log;  // every section below is parsed, so a key that no loader reads is a mistake
   VoConfig vo;
   vo.origin = config.origin();
   vo.tracking = load_tracking_params(config.section("tracking"));
@@ -33,6 +42,14 @@ VoConfig load_vo_config(const io::Config& config) {
   vo.point_matcher = config.section("point_matcher");
   vo.nn_matcher = config.section("nn_matcher");
   vo.camera = config.section("camera");
+  vo.dataset = config.section("dataset");
+  // The sections the feature stage and the dataset reader load later, parsed now to check their keys and values
+  // up front (and for the components a run may not use, e.g. SuperGlue's under the NN matcher).
+  features::load_superpoint_params(vo.point_detector);
+  features::load_superglue_params(vo.point_matcher);
+  features::load_nn_matcher_params(vo.nn_matcher);
+  io::load_dataset_options(vo.dataset, vo.camera);
+  io::apply_camera_overrides(vo.camera, {});
   const YAML::Node models = config.section("models");
   io::read_param(models, "matcher", vo.matcher);
   if (vo.matcher != "superglue" && vo.matcher != "nn")
@@ -42,6 +59,12 @@ VoConfig load_vo_config(const io::Config& config) {
   io::read_param(models, "superglue", superglue);
   vo.superpoint_model = superpoint;
   vo.superglue_model = superglue;
+
+  const std::vector<std::string> unread = key_log.unread(config.root());
+  if (!unread.empty())
+    throw std::runtime_error(fmt::format("{}: {} not a vkvo parameter (misspelt, or in the wrong section?): {}",
+                                         config.origin(), unread.size() == 1 ? "this key is" : "these keys are",
+                                         fmt::join(unread, ", ")));
   return vo;
 }
 

@@ -45,11 +45,15 @@ struct VoConfig {
   YAML::Node point_matcher;                        // SuperGlue parameters (features/superglue.hpp)
   YAML::Node nn_matcher;                           // mutual-nearest-neighbour fallback (features/nn_matcher.hpp)
   YAML::Node camera;                               // calibration overrides (io::apply_camera_overrides)
+  YAML::Node dataset;                              // frame range, stereo pairing (io::load_dataset_options)
   std::string matcher = "superglue";               // superglue | nn   (section models: matcher)
   std::filesystem::path superpoint_model;          // section models: superpoint (pack path; may be empty)
   std::filesystem::path superglue_model;           // section models: superglue
 };
 
+// Parses every section (those the feature stage and the dataset reader read later too) and throws
+// std::runtime_error naming the file and the value or key at fault: a wrong type or value, or a key that no
+// module reads (with its line), since a misspelt key would otherwise silently leave its default in place.
 VoConfig load_vo_config(const io::Config& config);
 
 // The configuration for images of width x height: tracking.init_min_keypoints and tracking.init_min_stereo

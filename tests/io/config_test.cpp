@@ -105,6 +105,24 @@ TEST(CameraOverrides, CameraBodyTransformIsTheInverse) {
             std::string::npos);
 }
 
+TEST(KeyReadLog, NamesWhatParamDidNotReadAndNests) {
+  const auto config = io::Config::from_string("a: {x: 1, y: 2}\nb:\n  - {z: 3}\n  - {z: 4, w: 5}\nc: [1, 2]\n");
+  io::KeyReadLog outer;
+  {
+    io::KeyReadLog inner;  // records instead of `outer` while it lives
+    EXPECT_EQ(io::param<int>(config.section("a"), "x", 0), 1);
+    EXPECT_EQ(inner.unread(config.root()),
+              (std::vector<std::string>{"a.y (line 1)", "b[0].z (line 3)", "b[1].z (line 4)", "b[1].w (line 4)",
+                                        "c (line 5)"}));
+  }
+  EXPECT_EQ(io::param<int>(config.section("a"), "y", 0), 2);
+  EXPECT_EQ(io::param<int>(config.root()["b"][1], "w", 0), 5);
+  EXPECT_EQ(io::param<std::vector<int>>(config.root(), "c", {}).size(), 2u);
+  EXPECT_EQ(io::param<int>(config.section("a"), "absent", 7), 7);  // a missing key is no trouble
+  EXPECT_EQ(outer.unread(config.root()),
+            (std::vector<std::string>{"a.x (line 1)", "b[0].z (line 3)", "b[1].z (line 4)"}));
+}
+
 TEST(DatasetOptions, FromConfigSection) {
   const auto config = io::Config::from_string(
       "dataset:\n  first_frame: 10\n  last_frame: 99\n  stride: 3\n  max_stereo_dt_ms: 2.5\ncamera:\n  fx: 7\n");

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "common/test_support.hpp"
+#include "io/dataset.hpp"
 #include "system/vo_config.hpp"
 
 namespace vkvo::system {
@@ -33,6 +34,50 @@ TEST(VoConfig, InitialisationThresholdsScaleDownWithTheImageArea) {
   VoConfig fixed = config;
   fixed.tracking.reference_image_area = 0;  // disabled
   EXPECT_EQ(scale_to_image(fixed, 320, 240).tracking.init_min_keypoints, 150);
+}
+
+// A key no module reads is named with its line, at every depth: a module's section, a flow map inside it, a list
+// of maps, the camera section, a section of its own.
+TEST(VoConfig, KeysNoModuleReadsAreNamedWithTheirLines) {
+  const auto config = io::Config::from_string(
+      "point_detector:\n"
+      "  max_keypoint: 500\n"                                            // line 2
+      "lines:\n"
+      "  detector:\n"
+      "    fld: {length_threshold: 10, canny_treshold1: 50}\n"          // line 5
+      "    merge_stages:\n"
+      "      - {max_angle: 0.05, max_gap: 15}\n"                       // line 7
+      "camera:\n"
+      "  left: {fx: 500, T_body_cam: [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0]}\n"  // line 9
+      "tracker:\n"
+      "  min_num_match: 20\n",                                            // line 11
+      "typos.yaml");
+  const std::string message = test::error_of([&] { load_vo_config(config); });
+  EXPECT_NE(message.find("typos.yaml"), std::string::npos) << message;
+  for (const char* key : {"point_detector.max_keypoint (line 2)", "lines.detector.fld.canny_treshold1 (line 5)",
+                          "lines.detector.merge_stages[0].max_gap (line 7)", "camera.left.T_body_cam (line 9)",
+                          "tracker.min_num_match (line 11)"})
+    EXPECT_NE(message.find(key), std::string::npos) << key << " not in: " << message;
+  // The keys that are parameters are not named.
+  for (const char* key : {"length_threshold", "max_angle", "left.fx"})
+    EXPECT_EQ(message.find(key), std::string::npos) << key << " in: " << message;
+}
+
+// Every section is parsed at load time, those read later by the feature stage or the dataset reader included, so a
+// bad value fails before any work starts and a component's keys are checked even where a run does not use it.
+TEST(VoConfig, EverySectionIsCheckedAtLoad) {
+  EXPECT_NE(test::error_of([] { load_vo_config(io::Config::from_string("point_detector: {precision: fp64}\n")); })
+                .find("precision"),
+            std::string::npos);
+  EXPECT_NE(test::error_of([] { load_vo_config(io::Config::from_string("point_matcher: {sinkhorn_iters: 50}\n")); })
+                .find("point_matcher.sinkhorn_iters"),
+            std::string::npos);
+  EXPECT_NE(test::error_of([] { load_vo_config(io::Config::from_string("dataset: {stride: 0}\n")); }).find("stride"),
+            std::string::npos);
+  const VoConfig config = load_vo_config(io::Config::from_string(
+      "models: {matcher: nn}\npoint_matcher: {sinkhorn_iterations: 50}\nnn_matcher: {min_similarity: 0.8}\n"
+      "dataset: {first_frame: 3}\ncamera: {fx: 400, left: {T_camera_body: [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0]}}\n"));
+  EXPECT_EQ(io::load_dataset_options(config.dataset, config.camera).range.first, 3u);
 }
 
 }  // namespace
