@@ -44,7 +44,9 @@ cv::Mat read_gray(const std::string& path) {
 
 int run_features(const FeaturesOptions& o) {
   const io::Config config = o.config.empty() ? io::Config() : io::Config::load(o.config);
+  const io::KeyReadLog key_log;
   features::SuperPointParams params = features::load_superpoint_params(config.section("point_detector"));
+  key_log.require_all_read(config.section("point_detector"), "point_detector", config.origin());
   if (!o.precision.empty() && o.precision != "auto") {
     const auto p = rt::parse_precision(o.precision);
     if (!p) throw std::runtime_error(fmt::format("unknown precision '{}' (auto, fp32, fp16s, fp16)", o.precision));

@@ -71,7 +71,9 @@ void write_image(const std::string& path, const cv::Mat& image) {
 
 int run_lines(const LinesOptions& o) {
   const io::Config config = o.config.empty() ? io::Config() : io::Config::load(o.config);
+  const io::KeyReadLog key_log;
   const features::LinePipelineParams params = features::load_line_pipeline_params(config.section("lines"));
+  key_log.require_all_read(config.section("lines"), "lines", config.origin());
   const features::LineDetector detector(params.detector);
 
   features::LineOverlayView a;

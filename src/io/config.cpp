@@ -3,6 +3,7 @@
 #include <optional>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "io/yaml_utils.hpp"
 
@@ -83,6 +84,13 @@ std::vector<std::string> KeyReadLog::unread(const YAML::Node& node, const std::s
     }
   }
   return keys;
+}
+
+void KeyReadLog::require_all_read(const YAML::Node& node, const std::string& prefix, const std::string& origin) const {
+  const std::vector<std::string> keys = unread(node, prefix);
+  if (keys.empty()) return;
+  throw std::runtime_error(fmt::format("{}: {} not a vkvo parameter (misspelt, or in the wrong section?): {}", origin,
+                                       keys.size() == 1 ? "this key is" : "these keys are", fmt::join(keys, ", ")));
 }
 
 namespace detail {

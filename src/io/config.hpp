@@ -55,6 +55,8 @@ class KeyReadLog {
   // The keys under `node` that were not read, as dotted paths from `prefix` with their lines ("lines.detector.fld.
   // lenght_threshold (line 30)"). Maps are walked into, also in lists; a scalar or a list of scalars is one key.
   std::vector<std::string> unread(const YAML::Node& node, const std::string& prefix = "") const;
+  // Throws std::runtime_error naming `origin` (the file) and every unread key under `node`.
+  void require_all_read(const YAML::Node& node, const std::string& prefix, const std::string& origin) const;
 
  private:
   bool was_read(const YAML::Node& section, const std::string& key) const;

@@ -4,8 +4,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include "features/nn_matcher.hpp"
 #include "features/superglue.hpp"
@@ -60,11 +58,7 @@ VoConfig load_vo_config(const io::Config& config) {
   vo.superpoint_model = superpoint;
   vo.superglue_model = superglue;
 
-  const std::vector<std::string> unread = key_log.unread(config.root());
-  if (!unread.empty())
-    throw std::runtime_error(fmt::format("{}: {} not a vkvo parameter (misspelt, or in the wrong section?): {}",
-                                         config.origin(), unread.size() == 1 ? "this key is" : "these keys are",
-                                         fmt::join(unread, ", ")));
+  key_log.require_all_read(config.root(), "", config.origin());
   return vo;
 }
 

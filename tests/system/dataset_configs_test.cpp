@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "common/test_support.hpp"
+#include "features/lines/line_params.hpp"
 #include "geometry/camera.hpp"
 #include "io/config.hpp"
 #include "system/vo_config.hpp"
@@ -62,6 +63,15 @@ TEST(DatasetConfigs, EveryShippedConfigLoads) {
     ++count;
   }
   EXPECT_GE(count, 4);  // euroc, kitti, oivio, uma_vi
+}
+
+// config/lines.yaml is `vkvo lines --config`'s: only its lines section, every key of it a parameter.
+TEST(DatasetConfigs, LinesConfigHasOnlyParameters) {
+  const io::Config config = io::Config::load(config_file("lines.yaml"));
+  const io::KeyReadLog key_log;
+  const features::LinePipelineParams params = features::load_line_pipeline_params(config.section("lines"));
+  EXPECT_NO_THROW(key_log.require_all_read(config.root(), "", config.origin()));
+  EXPECT_FALSE(params.detector.merge_stages.empty());
 }
 
 // AirVO's configs/oivio.yaml: LEFT.R, RIGHT.R, bf = 32.3252131124 at fx' = 644.6438364153.
