@@ -92,6 +92,12 @@ cv::Mat StereoDataset::load_image(const fs::path& file, const CameraCalibration&
   return gray;
 }
 
+cv::Size StereoDataset::image_size(const fs::path& file) {
+  const cv::Mat image = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
+  if (image.empty()) throw std::runtime_error(fmt::format("{}: cannot decode image (corrupt or unsupported)", file.string()));
+  return image.size();
+}
+
 void StereoDataset::finish(const DatasetOptions& options, const std::string& calibration_source) {
   std::string source = calibration_source;
   if (options.camera_overrides.IsDefined() && !options.camera_overrides.IsNull()) {

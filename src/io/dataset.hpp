@@ -91,6 +91,8 @@ class StereoDataset {
   // Called by implementations once frames_ (full sequence) and calibration_ are filled: applies the overrides and
   // the frame range, validates the calibration.
   void finish(const DatasetOptions& options, const std::string& calibration_source);
+  // The size of an image file, for calibrations that do not give it; throws naming the file when it cannot be read.
+  static cv::Size image_size(const std::filesystem::path& file);
 
   std::filesystem::path root_;
   std::string name_;

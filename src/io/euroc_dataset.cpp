@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
 #include "io/dataset.hpp"
@@ -184,22 +183,16 @@ EurocDataset::EurocDataset(const fs::path& path, const DatasetOptions& options) 
   std::string source = (root_ / "cam{0,1}" / "sensor.yaml").string();
   const auto read_calibration = [&](const char* cam, const std::vector<CameraEntry>& images) {
     const fs::path sensor_yaml = root_ / cam / "sensor.yaml";
-    if (fs::is_regular_file(sensor_yaml) || !config_gives_cameras) {
-      if (!fs::is_regular_file(sensor_yaml))
-        throw std::runtime_error(fmt::format(
-            "{}: calibration file is missing (or give the cameras in the config's camera section)",
-            sensor_yaml.string()));
-      return read_euroc_camera_yaml(sensor_yaml);
-    }
+    if (fs::is_regular_file(sensor_yaml)) return read_euroc_camera_yaml(sensor_yaml);
+    if (!config_gives_cameras)
+      throw std::runtime_error(fmt::format(
+          "{}: calibration file is missing (or give the cameras in the config's camera section)", sensor_yaml.string()));
     source += fmt::format(" ({} missing)", cam);
     if (images.empty()) throw std::runtime_error(fmt::format("{}: lists no images", (root_ / cam).string()));
+    const cv::Size size = image_size(images.front().image);
     CameraCalibration camera;
-    const fs::path& first = images.front().image;
-    const cv::Mat image = cv::imread(first.string(), cv::IMREAD_GRAYSCALE);
-    if (image.empty())
-      throw std::runtime_error(fmt::format("{}: cannot decode image (corrupt or unsupported)", first.string()));
-    camera.width = image.cols;
-    camera.height = image.rows;
+    camera.width = size.width;
+    camera.height = size.height;
     return camera;
   };
   calibration_.left = read_calibration("cam0", left);

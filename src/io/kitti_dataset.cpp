@@ -6,7 +6,6 @@
 
 #include <Eigen/Core>
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
 #include "io/dataset.hpp"
@@ -138,12 +137,9 @@ KittiDataset::KittiDataset(const fs::path& path, const DatasetOptions& options) 
   else source += " (missing)";
   // calib.txt has no image size: take it from the first image.
   if (!frames_.empty()) {
-    const cv::Mat first = cv::imread(frames_.front().left.string(), cv::IMREAD_GRAYSCALE);
-    if (first.empty())
-      throw std::runtime_error(fmt::format("{}: cannot decode image (corrupt or unsupported)",
-                                           frames_.front().left.string()));
-    calibration_.left.width = calibration_.right.width = first.cols;
-    calibration_.left.height = calibration_.right.height = first.rows;
+    const cv::Size size = image_size(frames_.front().left);
+    calibration_.left.width = calibration_.right.width = size.width;
+    calibration_.left.height = calibration_.right.height = size.height;
   }
 
   if (fs::is_regular_file(root_ / "poses.txt"))
