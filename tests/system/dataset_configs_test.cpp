@@ -1,9 +1,8 @@
 // The shipped config files: every one loads, and the cameras of those that carry them (OIVIO, UMA-VI, whose bags
 // come without a sensor.yaml) rectify as AirVO's own camera files for those datasets say they do. Those files give
-// the rectification OpenCV computed from the same published calibration: R1, R2 and bf (baseline times the
-// rectified focal length; the focal length itself depends on the rectification's scaling, which they chose
-// differently). A transform read with the wrong convention (UMA-VI's is Kalibr's T_cam_imu, OIVIO's EuRoC's T_BS)
-// moves R1 and R2 by degrees; the tolerance is a few times the files' rounding.
+// the rectification OpenCV computed from the same published calibration: R1, R2, the rectified P and bf (baseline
+// times the rectified focal length). A transform read with the wrong convention (UMA-VI's is Kalibr's T_cam_imu,
+// OIVIO's EuRoC's T_BS) moves R1 and R2 by a degree; the tolerances are a few times the files' rounding.
 #include <filesystem>
 
 #include <Eigen/Geometry>
@@ -36,14 +35,19 @@ double angle_between(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
 
 struct ReferenceRectification {
   Eigen::Matrix3d left_R, right_R;  // raw camera -> rectified camera (OpenCV's R1, R2)
-  double baseline;                  // bf / rectified fx
+  double f, cx, cy;                 // the rectified camera (P1 = P2 but for the baseline)
+  double bf;                        // baseline times f
 };
 
 void expect_rectification(const char* name, const ReferenceRectification& reference) {
   SCOPED_TRACE(name);
   const io::StereoCalibration calibration = calibration_of(config_file(name));
   const geometry::StereoRig rig(calibration);
-  EXPECT_NEAR(rig.baseline(), reference.baseline, 2e-5);
+  EXPECT_NEAR(rig.camera().fx, reference.f, 1e-3);
+  EXPECT_NEAR(rig.camera().fy, reference.f, 1e-3);
+  EXPECT_NEAR(rig.camera().cx, reference.cx, 1e-3);
+  EXPECT_NEAR(rig.camera().cy, reference.cy, 1e-3);
+  EXPECT_NEAR(rig.baseline() * rig.camera().fx, reference.bf, 1e-3);
   const Eigen::Matrix3d left_R = rig.T_rawleft_rectified().rotation().transpose();
   // The rectified cameras share one orientation: R2 = R1 * R_left_right.
   const Eigen::Matrix3d right_R = left_R * calibration.T_left_right().rotation();
@@ -74,25 +78,31 @@ TEST(DatasetConfigs, LinesConfigHasOnlyParameters) {
   EXPECT_FALSE(params.detector.merge_stages.empty());
 }
 
-// AirVO's configs/oivio.yaml: LEFT.R, RIGHT.R, bf = 32.3252131124 at fx' = 644.6438364153.
+// AirVO's configs/oivio.yaml: LEFT.R, RIGHT.R, LEFT.P, bf.
 TEST(DatasetConfigs, OivioCamerasRectifyAsAirVoComputed) {
   ReferenceRectification reference;
   reference.left_R << 0.9999935662, -0.0033233921, -0.0013500365, 0.0033244884, 0.9999941453, 0.0008106159,
       0.0013473346, -0.0008150989, 0.9999987602;
   reference.right_R << 0.9999943337, -0.0022228281, 0.0025281572, 0.0022248824, 0.9999971969, -0.0008100474,
       -0.0025263495, 0.0008156677, 0.9999964761;
-  reference.baseline = 32.3252131124 / 644.6438364153;
+  reference.f = 644.6438364153;
+  reference.cx = 637.7982711792;
+  reference.cy = 355.1050758362;
+  reference.bf = 32.3252131124;
   expect_rectification("oivio.yaml", reference);
 }
 
-// AirVO's configs/uma_bumblebee.yaml (equidistant model): bf = 52.1485318013 at fx' = 437.0655449072.
+// AirVO's configs/uma_bumblebee.yaml (equidistant model): LEFT.R, RIGHT.R, LEFT.P, bf.
 TEST(DatasetConfigs, UmaViCamerasRectifyAsAirVoComputed) {
   ReferenceRectification reference;
   reference.left_R << 0.9999757844, -0.0030431402, 0.0062585921, 0.0030488685, 0.9999949418, -0.0009059397,
       -0.0062558036, 0.0009249994, 0.9999800044;
   reference.right_R << 0.9999861135, -0.0048552073, 0.0020493192, 0.0048533292, 0.9999877989, 0.0009204513,
       -0.0020537631, -0.0009104925, 0.9999974765;
-  reference.baseline = 52.1485318013 / 437.0655449072;
+  reference.f = 437.0655449072;
+  reference.cx = 526.2194189577;
+  reference.cy = 393.3895879877;
+  reference.bf = 52.1485318013;
   expect_rectification("uma_vi.yaml", reference);
 }
 
