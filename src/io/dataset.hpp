@@ -133,8 +133,12 @@ class KittiDataset final : public StereoDataset {
 std::unique_ptr<StereoDataset> open_dataset(const std::filesystem::path& path, const DatasetOptions& options = {});
 
 // Parsers exposed for tests and tools.
-// EuRoC cam sensor.yaml -> intrinsics, distortion, T_BS. Throws naming the file and the missing field.
-CameraCalibration read_euroc_camera_yaml(const std::filesystem::path& sensor_yaml);
+// EuRoC cam sensor.yaml -> resolution, intrinsics, distortion, T_BS. Throws naming the file and the field that is
+// malformed or (unless `present_only`, for callers with another source such as the config) missing; fields left
+// out keep CameraCalibration's defaults.
+enum class SensorYamlFields { all_required, present_only };
+CameraCalibration read_euroc_camera_yaml(const std::filesystem::path& sensor_yaml,
+                                         SensorYamlFields fields = SensorYamlFields::all_required);
 // KITTI calib.txt -> rectified stereo calibration (width/height left 0: taken from the images).
 StereoCalibration read_kitti_calib(const std::filesystem::path& calib_txt);
 

@@ -115,39 +115,54 @@ std::optional<fs::path> find_left_cam_groundtruth(const fs::path& sequence_dir) 
 
 }  // namespace
 
-CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml) {
+CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml, SensorYamlFields fields) {
   if (!fs::is_regular_file(sensor_yaml))
     throw std::runtime_error(fmt::format("{}: calibration file is missing", sensor_yaml.string()));
   const YAML::Node root = load_yaml_file(sensor_yaml);
   if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a YAML map", sensor_yaml.string()));
 
+  // A field is read where it is present; an absent one is an error unless the caller has another source for it.
+  const auto read = [&](const char* field) {
+    const YAML::Node node = root[field];
+    return (node.IsDefined() && !node.IsNull()) || fields == SensorYamlFields::all_required;
+  };
   CameraCalibration camera;
   const auto model = root["camera_model"];
   if (model.IsDefined() && model.as<std::string>() != "pinhole")
     throw std::runtime_error(fmt::format("{}: camera_model '{}' is not supported (pinhole only)", sensor_yaml.string(),
                                          model.as<std::string>()));
-  const auto resolution = required_numbers(root["resolution"], sensor_yaml, "resolution", 2);
-  camera.width = static_cast<int>(resolution[0]);
-  camera.height = static_cast<int>(resolution[1]);
-  const auto intrinsics = required_numbers(root["intrinsics"], sensor_yaml, "intrinsics", 4);
-  camera.fx = intrinsics[0];
-  camera.fy = intrinsics[1];
-  camera.cx = intrinsics[2];
-  camera.cy = intrinsics[3];
-  const std::string distortion = required_string(root, sensor_yaml, "distortion_model");
-  try {
-    camera.distortion = parse_distortion_model(distortion);
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(fmt::format("{}: field 'distortion_model': {}", sensor_yaml.string(), e.what()));
+  if (read("resolution")) {
+    const auto resolution = required_numbers(root["resolution"], sensor_yaml, "resolution", 2);
+    camera.width = static_cast<int>(resolution[0]);
+    camera.height = static_cast<int>(resolution[1]);
   }
-  camera.distortion_coeffs = required_numbers(root["distortion_coefficients"], sensor_yaml, "distortion_coefficients", 0);
-  const YAML::Node T_BS = root["T_BS"];
-  if (!T_BS.IsDefined() || !T_BS.IsMap())
-    throw std::runtime_error(fmt::format("{}: missing field 'T_BS'", sensor_yaml.string()));
-  try {
-    camera.T_body_camera = isometry_from_row_major(required_numbers(T_BS["data"], sensor_yaml, "T_BS.data", 16));
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(fmt::format("{}: field 'T_BS': {}", sensor_yaml.string(), e.what()));
+  if (read("intrinsics")) {
+    const auto intrinsics = required_numbers(root["intrinsics"], sensor_yaml, "intrinsics", 4);
+    camera.fx = intrinsics[0];
+    camera.fy = intrinsics[1];
+    camera.cx = intrinsics[2];
+    camera.cy = intrinsics[3];
+  }
+  if (read("distortion_model")) {
+    const std::string distortion = required_string(root, sensor_yaml, "distortion_model");
+    try {
+      camera.distortion = parse_distortion_model(distortion);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(fmt::format("{}: field 'distortion_model': {}", sensor_yaml.string(), e.what()));
+    }
+  }
+  if (read("distortion_coefficients"))
+    camera.distortion_coeffs =
+        required_numbers(root["distortion_coefficients"], sensor_yaml, "distortion_coefficients", 0);
+  if (read("T_BS")) {
+    const YAML::Node T_BS = root["T_BS"];
+    if (!T_BS.IsDefined() || !T_BS.IsMap())
+      throw std::runtime_error(fmt::format("{}: missing field 'T_BS'", sensor_yaml.string()));
+    try {
+      camera.T_body_camera = isometry_from_row_major(required_numbers(T_BS["data"], sensor_yaml, "T_BS.data", 16));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(fmt::format("{}: field 'T_BS': {}", sensor_yaml.string(), e.what()));
+    }
   }
   return camera;
 }
@@ -183,16 +198,23 @@ EurocDataset::EurocDataset(const fs::path& path, const DatasetOptions& options) 
   std::string source = (root_ / "cam{0,1}" / "sensor.yaml").string();
   const auto read_calibration = [&](const char* cam, const std::vector<CameraEntry>& images) {
     const fs::path sensor_yaml = root_ / cam / "sensor.yaml";
-    if (fs::is_regular_file(sensor_yaml)) return read_euroc_camera_yaml(sensor_yaml);
-    if (!config_gives_cameras)
+    CameraCalibration camera;
+    if (fs::is_regular_file(sensor_yaml)) {
+      // With the cameras in the config, a sensor.yaml may be partial: the config fills in what it leaves out.
+      camera = read_euroc_camera_yaml(
+          sensor_yaml, config_gives_cameras ? SensorYamlFields::present_only : SensorYamlFields::all_required);
+    } else if (config_gives_cameras) {
+      source += fmt::format(" ({} missing)", cam);
+    } else {
       throw std::runtime_error(fmt::format(
           "{}: calibration file is missing (or give the cameras in the config's camera section)", sensor_yaml.string()));
-    source += fmt::format(" ({} missing)", cam);
-    if (images.empty()) throw std::runtime_error(fmt::format("{}: lists no images", (root_ / cam).string()));
-    const cv::Size size = image_size(images.front().image);
-    CameraCalibration camera;
-    camera.width = size.width;
-    camera.height = size.height;
+    }
+    if (camera.width <= 0 || camera.height <= 0) {
+      if (images.empty()) throw std::runtime_error(fmt::format("{}: lists no images", (root_ / cam).string()));
+      const cv::Size size = image_size(images.front().image);
+      camera.width = size.width;
+      camera.height = size.height;
+    }
     return camera;
   };
   calibration_.left = read_calibration("cam0", left);

@@ -199,6 +199,27 @@ TEST(EurocDataset, EmptyCameraFolderIsNamed) {
   EXPECT_NE(message.find((root / "cam0").string()), std::string::npos) << message;
 }
 
+// A sensor.yaml without intrinsics (or resolution) is enough where the config gives them: its T_BS is kept.
+TEST(EurocDataset, PartialSensorYamlCompletedByTheConfig) {
+  const fs::path mav0 = write_euroc(test::temp_dir("euroc_partial"), /*left_intrinsics=*/"");
+  io::DatasetOptions options;
+  options.camera_overrides = YAML::Load("left: {fx: 99, fy: 98, cx: 8.5, cy: 6.5}");
+  io::EurocDataset dataset(mav0, options);
+  const auto& left = dataset.calibration().left;
+  EXPECT_DOUBLE_EQ(left.fx, 99.0);
+  EXPECT_DOUBLE_EQ(left.cy, 6.5);
+  EXPECT_EQ(left.width, 16);                                         // from the file
+  EXPECT_EQ(left.distortion, io::DistortionModel::radtan);           // from the file
+  EXPECT_DOUBLE_EQ(left.T_body_camera.translation().x(), -0.02);     // from the file
+  EXPECT_NEAR(dataset.calibration().baseline(), 0.11, 1e-12);
+
+  // What neither gives is still named.
+  options.camera_overrides = YAML::Load("left: {fx: 99, fy: 98, cx: 8.5}");
+  const std::string message = error_of([&] { io::EurocDataset dataset(mav0, options); });
+  EXPECT_NE(message.find("'cy'"), std::string::npos) << message;
+  EXPECT_NE(message.find("sensor.yaml"), std::string::npos) << message;
+}
+
 TEST(EurocDataset, CorruptAndMissingImagesNameTheFile) {
   const fs::path mav0 = write_euroc(test::temp_dir("euroc_corrupt"));
   io::EurocDataset dataset(mav0);
