@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "io/kalibr_camchain.hpp"
 #include "io/yaml_utils.hpp"
 
 namespace vkvo::io {
@@ -154,6 +155,8 @@ void apply_per_camera_keys(const YAML::Node& node, const std::string& name, Came
 StereoCalibration apply_camera_overrides(const YAML::Node& camera, StereoCalibration base) {
   if (!camera.IsDefined() || camera.IsNull()) return base;
   if (!camera.IsMap()) throw std::runtime_error("config section 'camera': expected a map");
+  const auto camchain = param<std::string>(camera, "kalibr", "");
+  if (!camchain.empty()) base = read_kalibr_camchain(camchain);
   apply_camera_keys(camera, base.left);
   apply_camera_keys(camera, base.right);
   if (camera["baseline"].IsDefined()) {

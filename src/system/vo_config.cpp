@@ -40,6 +40,12 @@ VoConfig load_vo_config(const io::Config& config) {
   vo.point_matcher = config.section("point_matcher");
   vo.nn_matcher = config.section("nn_matcher");
   vo.camera = config.section("camera");
+  // A Kalibr camchain named in the camera section is relative to the config file, wherever the run starts.
+  if (const auto camchain = io::param<std::string>(vo.camera, "kalibr", ""); !camchain.empty()) {
+    const std::filesystem::path path(camchain);
+    if (path.is_relative() && !config.origin().empty() && std::filesystem::exists(config.origin()))
+      vo.camera["kalibr"] = (std::filesystem::path(config.origin()).parent_path() / path).lexically_normal().string();
+  }
   vo.dataset = config.section("dataset");
   // The sections the feature stage and the dataset reader load later, parsed now to check their keys and values
   // up front (and for the components a run may not use, e.g. SuperGlue's under the NN matcher).

@@ -1,0 +1,113 @@
+// Kalibr camera-chain files (camchain.yaml, camchain-imucam.yaml): the calibration most visual-inertial datasets
+// publish. Per camera: camera_model (pinhole only here), intrinsics [fu, fv, pu, pv], distortion_model (radtan,
+// equidistant, none), distortion_coeffs, resolution [w, h]; T_cam_imu (body -> camera, in -imucam files) and, from
+// cam1 on, T_cn_cnm1 (previous camera -> this camera). 4x4 transforms are lists of 4 rows.
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "io/kalibr_camchain.hpp"
+#include "io/yaml_utils.hpp"
+
+namespace vkvo::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// `count` numbers (any number where 0).
+std::vector<double> numbers(const YAML::Node& node, const fs::path& file, const std::string& field, std::size_t count) {
+  if (!node.IsDefined() || node.IsNull())
+    throw std::runtime_error(fmt::format("{}: missing field '{}'", file.string(), field));
+  try {
+    const auto values = node.as<std::vector<double>>();
+    if (count != 0 && values.size() != count)
+      throw std::runtime_error(
+          fmt::format("{}: field '{}' has {} numbers, expected {}", file.string(), field, values.size(), count));
+    return values;
+  } catch (const YAML::Exception&) {
+    throw std::runtime_error(fmt::format("{}: field '{}' is not a list of numbers", file.string(), field));
+  }
+}
+
+// Camera `name`'s 4x4 transform `key`, 4 rows of 4 numbers; nullopt where absent.
+std::optional<Eigen::Isometry3d> read_transform(const YAML::Node& cam, const fs::path& file, const std::string& name,
+                                                const char* key) {
+  const std::string field = name + "." + key;
+  const YAML::Node rows = cam[key];
+  if (!rows.IsDefined() || rows.IsNull()) return std::nullopt;
+  if (!rows.IsSequence() || rows.size() != 4)
+    throw std::runtime_error(fmt::format("{}: field '{}' must be 4 rows of 4 numbers", file.string(), field));
+  std::vector<double> values;
+  for (std::size_t r = 0; r < 4; ++r) {
+    const auto row = numbers(rows[r], file, fmt::format("{}[{}]", field, r), 4);
+    values.insert(values.end(), row.begin(), row.end());
+  }
+  try {
+    return isometry_from_row_major(values);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("{}: field '{}': {}", file.string(), field, e.what()));
+  }
+}
+
+CameraCalibration read_camera(const YAML::Node& cam, const fs::path& file, const std::string& name) {
+  CameraCalibration camera;
+  const YAML::Node model = cam["camera_model"];
+  if (model.IsDefined() && model.as<std::string>() != "pinhole")
+    throw std::runtime_error(fmt::format("{}: {}.camera_model '{}' is not supported (pinhole only)", file.string(), name,
+                                         model.as<std::string>()));
+  const auto intrinsics = numbers(cam["intrinsics"], file, name + ".intrinsics", 4);
+  camera.fx = intrinsics[0];
+  camera.fy = intrinsics[1];
+  camera.cx = intrinsics[2];
+  camera.cy = intrinsics[3];
+  const auto resolution = numbers(cam["resolution"], file, name + ".resolution", 2);
+  camera.width = static_cast<int>(resolution[0]);
+  camera.height = static_cast<int>(resolution[1]);
+  const YAML::Node distortion = cam["distortion_model"];
+  if (!distortion.IsDefined() || distortion.IsNull())
+    throw std::runtime_error(fmt::format("{}: missing field '{}.distortion_model'", file.string(), name));
+  try {
+    camera.distortion = parse_distortion_model(distortion.as<std::string>());
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("{}: field '{}.distortion_model': {}", file.string(), name, e.what()));
+  }
+  if (camera.distortion != DistortionModel::none)
+    camera.distortion_coeffs = numbers(cam["distortion_coeffs"], file, name + ".distortion_coeffs", 0);
+  return camera;
+}
+
+}  // namespace
+
+StereoCalibration read_kalibr_camchain(const fs::path& file) {
+  if (!fs::is_regular_file(file)) throw std::runtime_error(fmt::format("{}: Kalibr camchain file is missing", file.string()));
+  const YAML::Node root = load_yaml_file(file);
+  if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a YAML map", file.string()));
+  for (const char* cam : {"cam0", "cam1"})
+    if (const YAML::Node node = root[cam]; !node.IsDefined() || !node.IsMap())
+      throw std::runtime_error(fmt::format("{}: missing camera '{}'", file.string(), cam));
+
+  StereoCalibration calibration;
+  calibration.left = read_camera(root["cam0"], file, "cam0");
+  calibration.right = read_camera(root["cam1"], file, "cam1");
+  calibration.rectified = false;
+  // The body is the IMU where both cameras have T_cam_imu, else cam0; then cam1 sits where T_cn_cnm1 puts it.
+  const auto left_from_body = read_transform(root["cam0"], file, "cam0", "T_cam_imu");
+  const auto right_from_body = read_transform(root["cam1"], file, "cam1", "T_cam_imu");
+  if (left_from_body && right_from_body) {
+    calibration.left.T_body_camera = left_from_body->inverse();
+    calibration.right.T_body_camera = right_from_body->inverse();
+  } else {
+    const auto right_from_left = read_transform(root["cam1"], file, "cam1", "T_cn_cnm1");
+    if (!right_from_left)
+      throw std::runtime_error(fmt::format(
+          "{}: cam1 has neither T_cn_cnm1 nor (with cam0) T_cam_imu: where it sits is unknown", file.string()));
+    calibration.right.T_body_camera = right_from_left->inverse();
+  }
+  return calibration;
+}
+
+}  // namespace vkvo::io
