@@ -113,8 +113,9 @@ TEST_P(SuperGlueRandom, SinkhornAndExtractionWithoutGnn) {
     const auto [a, b] = make_pair(50, 41, 32, 3);
     expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
     const bool texel_sinkhorn = texel_kernels && gpu().supports_uniform_texel_format(vk::Format::eR32G32B32A32Sfloat);
-    if (gpu().caps().timestamps && texel_sinkhorn)
+    if (gpu().caps().timestamps && texel_sinkhorn) {
       EXPECT_EQ(sinkhorn_dispatches(net.last_timings()), fused ? 1 : 2 * 20) << "dispatches of the Sinkhorn iterations";
+    }
   }
 }
 

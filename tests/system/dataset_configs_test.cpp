@@ -39,9 +39,9 @@ struct ReferenceRectification {
   double bf;                        // baseline times f
 };
 
-void expect_rectification(const char* name, const ReferenceRectification& reference) {
-  SCOPED_TRACE(name);
-  const io::StereoCalibration calibration = calibration_of(config_file(name));
+void expect_rectification(const fs::path& config, const ReferenceRectification& reference) {
+  SCOPED_TRACE(config.string());
+  const io::StereoCalibration calibration = calibration_of(config);
   const geometry::StereoRig rig(calibration);
   EXPECT_NEAR(rig.camera().fx, reference.f, 1e-3);
   EXPECT_NEAR(rig.camera().fy, reference.f, 1e-3);
@@ -63,7 +63,9 @@ TEST(DatasetConfigs, EveryShippedConfigLoads) {
     SCOPED_TRACE(entry.path().string());
     const VoConfig config = load_vo_config(entry.path());
     EXPECT_GT(config.keyframe.max_frames, 0);
-    if (config.camera.IsDefined() && !config.camera.IsNull()) EXPECT_NO_THROW(calibration_of(entry.path()));
+    if (config.camera.IsDefined() && !config.camera.IsNull()) {
+      EXPECT_NO_THROW(calibration_of(entry.path()));
+    }
     ++count;
   }
   EXPECT_GE(count, 4);  // euroc, kitti, oivio, uma_vi
@@ -89,11 +91,11 @@ TEST(DatasetConfigs, OivioCamerasRectifyAsAirVoComputed) {
   reference.cx = 637.7982711792;
   reference.cy = 355.1050758362;
   reference.bf = 32.3252131124;
-  expect_rectification("oivio.yaml", reference);
+  expect_rectification(config_file("oivio.yaml"), reference);
 }
 
 // AirVO's configs/uma_bumblebee.yaml (equidistant model): LEFT.R, RIGHT.R, LEFT.P, bf.
-TEST(DatasetConfigs, UmaViCamerasRectifyAsAirVoComputed) {
+ReferenceRectification uma_vi_reference() {
   ReferenceRectification reference;
   reference.left_R << 0.9999757844, -0.0030431402, 0.0062585921, 0.0030488685, 0.9999949418, -0.0009059397,
       -0.0062558036, 0.0009249994, 0.9999800044;
@@ -103,7 +105,42 @@ TEST(DatasetConfigs, UmaViCamerasRectifyAsAirVoComputed) {
   reference.cx = 526.2194189577;
   reference.cy = 393.3895879877;
   reference.bf = 52.1485318013;
-  expect_rectification("uma_vi.yaml", reference);
+  return reference;
+}
+
+TEST(DatasetConfigs, UmaViCamerasRectifyAsAirVoComputed) {
+  expect_rectification(config_file("uma_vi.yaml"), uma_vi_reference());
+}
+
+// The same calibration in the form Kalibr writes it (camchain-imucam.yaml: T_cam_imu as 4 rows), named by a
+// config's camera.kalibr relative to the config file: the same rig.
+TEST(DatasetConfigs, KalibrCamchainGivesTheSameRig) {
+  const fs::path dir = test::temp_dir("kalibr_uma");
+  test::write_text(dir / "calib" / "camchain-imucam.yaml", R"(cam0:
+  T_cam_imu:
+  - [-0.9999075129222311, 0.009129044547616321, 0.010080979482447605, 0.04494077481347731]
+  - [-0.009349824313881894, -0.9997125937593437, -0.022075114139336903, 0.11756299478603587]
+  - [0.009876557445660702, -0.022167327863611475, 0.9997054882256121, 0.009662092028551384]
+  - [0.0, 0.0, 0.0, 1.0]
+  camera_model: pinhole
+  distortion_coeffs: [-0.06871322616238257, 0.02451994273357104, -0.02288817712592593, 0.005970525621928401]
+  distortion_model: equidistant
+  intrinsics: [548.675336190778, 549.8818969986276, 516.3866093184781, 399.5429120347567]
+  resolution: [1024, 768]
+cam1:
+  T_cam_imu:
+  - [-0.9998724792210668, 0.007228050454964115, 0.014240104737598703, -0.0741199925822667]
+  - [-0.007567637071889531, -0.9996847674053032, -0.023939437899691232, 0.11804314089236007]
+  - [0.014062580327431065, -0.024044149068442884, 0.9996119860876564, 0.009444780183617524]
+  - [0.0, 0.0, 0.0, 1.0]
+  camera_model: pinhole
+  distortion_coeffs: [-0.05876304711291024, 0.006137940939145979, -0.007300242063869814, 0.001414838413761872]
+  distortion_model: equidistant
+  intrinsics: [546.704969318968, 547.905312283432, 524.6107126324622, 381.4119390580929]
+  resolution: [1024, 768]
+)");
+  test::write_text(dir / "uma_kalibr.yaml", "camera:\n  kalibr: calib/camchain-imucam.yaml\n");
+  expect_rectification(dir / "uma_kalibr.yaml", uma_vi_reference());
 }
 
 }  // namespace
