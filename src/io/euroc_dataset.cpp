@@ -74,29 +74,6 @@ std::vector<CameraEntry> read_camera_images(const fs::path& cam_dir) {
   return entries;
 }
 
-std::vector<double> required_numbers(const YAML::Node& node, const fs::path& file, const std::string& field,
-                                     std::size_t count) {
-  if (!node.IsDefined() || node.IsNull())
-    throw std::runtime_error(fmt::format("{}: missing field '{}'", file.string(), field));
-  std::vector<double> values;
-  try {
-    values = node.as<std::vector<double>>();
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error(fmt::format("{}: field '{}' is not a list of numbers", file.string(), field));
-  }
-  if (count != 0 && values.size() != count)
-    throw std::runtime_error(
-        fmt::format("{}: field '{}' has {} numbers, expected {}", file.string(), field, values.size(), count));
-  return values;
-}
-
-std::string required_string(const YAML::Node& root, const fs::path& file, const std::string& field) {
-  const YAML::Node node = root[field];
-  if (!node.IsDefined() || node.IsNull())
-    throw std::runtime_error(fmt::format("{}: missing field '{}'", file.string(), field));
-  return node.as<std::string>();
-}
-
 // ORB-SLAM3 style cam0 ground truth next to the sequence: <parent>/groundtruth/EuRoC_left_cam/MH01_GT.txt.
 std::optional<fs::path> find_left_cam_groundtruth(const fs::path& sequence_dir) {
   const fs::path dir = sequence_dir.parent_path() / "groundtruth" / "EuRoC_left_cam";
@@ -144,7 +121,7 @@ CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml, SensorYaml
     camera.cy = intrinsics[3];
   }
   if (read("distortion_model")) {
-    const std::string distortion = required_string(root, sensor_yaml, "distortion_model");
+    const std::string distortion = required_string(root["distortion_model"], sensor_yaml, "distortion_model");
     try {
       camera.distortion = parse_distortion_model(distortion);
     } catch (const std::invalid_argument& e) {

@@ -18,21 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// `count` numbers (any number where 0).
-std::vector<double> numbers(const YAML::Node& node, const fs::path& file, const std::string& field, std::size_t count) {
-  if (!node.IsDefined() || node.IsNull())
-    throw std::runtime_error(fmt::format("{}: missing field '{}'", file.string(), field));
-  try {
-    const auto values = node.as<std::vector<double>>();
-    if (count != 0 && values.size() != count)
-      throw std::runtime_error(
-          fmt::format("{}: field '{}' has {} numbers, expected {}", file.string(), field, values.size(), count));
-    return values;
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error(fmt::format("{}: field '{}' is not a list of numbers", file.string(), field));
-  }
-}
-
 // Camera `name`'s 4x4 transform `key`, 4 rows of 4 numbers; nullopt where absent.
 std::optional<Eigen::Isometry3d> read_transform(const YAML::Node& cam, const fs::path& file, const std::string& name,
                                                 const char* key) {
@@ -43,7 +28,7 @@ std::optional<Eigen::Isometry3d> read_transform(const YAML::Node& cam, const fs:
     throw std::runtime_error(fmt::format("{}: field '{}' must be 4 rows of 4 numbers", file.string(), field));
   std::vector<double> values;
   for (std::size_t r = 0; r < 4; ++r) {
-    const auto row = numbers(rows[r], file, fmt::format("{}[{}]", field, r), 4);
+    const auto row = required_numbers(rows[r], file, fmt::format("{}[{}]", field, r), 4);
     values.insert(values.end(), row.begin(), row.end());
   }
   try {
@@ -59,24 +44,22 @@ CameraCalibration read_camera(const YAML::Node& cam, const fs::path& file, const
   if (model.IsDefined() && model.as<std::string>() != "pinhole")
     throw std::runtime_error(fmt::format("{}: {}.camera_model '{}' is not supported (pinhole only)", file.string(), name,
                                          model.as<std::string>()));
-  const auto intrinsics = numbers(cam["intrinsics"], file, name + ".intrinsics", 4);
+  const auto intrinsics = required_numbers(cam["intrinsics"], file, name + ".intrinsics", 4);
   camera.fx = intrinsics[0];
   camera.fy = intrinsics[1];
   camera.cx = intrinsics[2];
   camera.cy = intrinsics[3];
-  const auto resolution = numbers(cam["resolution"], file, name + ".resolution", 2);
+  const auto resolution = required_numbers(cam["resolution"], file, name + ".resolution", 2);
   camera.width = static_cast<int>(resolution[0]);
   camera.height = static_cast<int>(resolution[1]);
-  const YAML::Node distortion = cam["distortion_model"];
-  if (!distortion.IsDefined() || distortion.IsNull())
-    throw std::runtime_error(fmt::format("{}: missing field '{}.distortion_model'", file.string(), name));
+  const std::string distortion = required_string(cam["distortion_model"], file, name + ".distortion_model");
   try {
-    camera.distortion = parse_distortion_model(distortion.as<std::string>());
+    camera.distortion = parse_distortion_model(distortion);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(fmt::format("{}: field '{}.distortion_model': {}", file.string(), name, e.what()));
   }
   if (camera.distortion != DistortionModel::none)
-    camera.distortion_coeffs = numbers(cam["distortion_coeffs"], file, name + ".distortion_coeffs", 0);
+    camera.distortion_coeffs = required_numbers(cam["distortion_coeffs"], file, name + ".distortion_coeffs", 0);
   return camera;
 }
 

@@ -30,6 +30,28 @@ YAML::Node load_yaml_file(const std::filesystem::path& file) {
   return parse_yaml(text.str(), file.string());
 }
 
+std::vector<double> required_numbers(const YAML::Node& node, const std::filesystem::path& file,
+                                     const std::string& field, std::size_t count) {
+  if (!node.IsDefined() || node.IsNull())
+    throw std::runtime_error(fmt::format("{}: missing field '{}'", file.string(), field));
+  std::vector<double> values;
+  try {
+    values = node.as<std::vector<double>>();
+  } catch (const YAML::Exception&) {
+    throw std::runtime_error(fmt::format("{}: field '{}' is not a list of numbers", file.string(), field));
+  }
+  if (count != 0 && values.size() != count)
+    throw std::runtime_error(
+        fmt::format("{}: field '{}' has {} numbers, expected {}", file.string(), field, values.size(), count));
+  return values;
+}
+
+std::string required_string(const YAML::Node& node, const std::filesystem::path& file, const std::string& field) {
+  if (!node.IsDefined() || node.IsNull())
+    throw std::runtime_error(fmt::format("{}: missing field '{}'", file.string(), field));
+  return node.as<std::string>();
+}
+
 DistortionModel parse_distortion_model(const std::string& name) {
   if (name == "none" || name == "pinhole") return DistortionModel::none;
   if (name == "radtan" || name == "radial-tangential" || name == "plumb_bob") return DistortionModel::radtan;

@@ -18,6 +18,13 @@ YAML::Node load_yaml_file(const std::filesystem::path& file);
 // Parses YAML text, dropping a leading `%YAML:1.0` directive; `origin` names the text in errors.
 YAML::Node parse_yaml(const std::string& text, const std::string& origin);
 
+// `node` as `count` numbers (any number where 0). Throws std::runtime_error naming `file` and `field` when the node
+// is missing, not a list of numbers, or of another length.
+std::vector<double> required_numbers(const YAML::Node& node, const std::filesystem::path& file,
+                                     const std::string& field, std::size_t count);
+// `node` as a string; throws std::runtime_error naming `file` and `field` when it is missing.
+std::string required_string(const YAML::Node& node, const std::filesystem::path& file, const std::string& field);
+
 // "none"/"pinhole", "radtan"/"radial-tangential"/"plumb_bob", "equidistant"/"equi"/"fisheye".
 // Throws std::invalid_argument listing the accepted names.
 DistortionModel parse_distortion_model(const std::string& name);
