@@ -101,7 +101,9 @@ void read_param(const YAML::Node& section, const std::string& key, T& value) {
 // Applies the keys of a `camera:` section on top of `base` (e.g. the dataset's own calibration, or an empty one
 // for datasets without a calibration file). Keys, all optional:
 //   kalibr                                  a Kalibr camchain file (io/kalibr_camchain.hpp): replaces `base`,
-//                                           the other keys then apply on top of it
+//                                           the other keys then apply on top of it (a relative path is taken
+//                                           from the working directory; system::load_vo_config resolves it
+//                                           against the config file's folder first)
 //   width, height, fx, fy, cx, cy           apply to both cameras
 //   baseline                                rectified stereo: right = left shifted by +baseline along x,
 //                                           and `rectified` becomes true
