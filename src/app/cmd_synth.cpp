@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "app/command.hpp"
+#include "io/config.hpp"
 #include "tools/synth/config.hpp"
 #include "tools/synth/perturb.hpp"
 #include "tools/synth/sequence_writer.hpp"
@@ -45,9 +46,12 @@ int run_synth(const SynthOptions& o) {
   SynthConfig config;
   if (!o.config.empty()) {
     YAML::Node root = YAML::LoadFile(o.config);
-    YAML::Node section = root["synth"] ? root["synth"] : root;
+    const bool nested = root["synth"].IsDefined();
+    YAML::Node section = nested ? root["synth"] : root;
     if (!section["preset"]) section["preset"] = o.preset;
+    const vkvo::io::KeyReadLog key_log;
     config = load_synth_params(section);
+    key_log.require_all_read(section, nested ? "synth" : "", o.config);
   } else {
     config = synth_preset(o.preset);
   }

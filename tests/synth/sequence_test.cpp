@@ -9,6 +9,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/test_support.hpp"
+#include "io/config.hpp"
 #include "synth/tiny_config.hpp"
 #include "tools/synth/renderer.hpp"
 #include "tools/synth/sequence_writer.hpp"
@@ -68,8 +69,12 @@ TEST(SequenceWriter, WritesTheAslLayout) {
   EXPECT_EQ(std::count(gt[1].begin(), gt[1].end(), ','), 16);
   EXPECT_EQ(lines_of(dir / "groundtruth_tum.txt").size(), 5u);  // comment + 4 poses
 
-  // synth.yaml reproduces the configuration.
-  const SynthConfig again = load_synth_params(YAML::LoadFile((dir / "synth.yaml").string()));
+  // synth.yaml reproduces the configuration, and every key it holds is one the loader reads (`vkvo synth --config`
+  // refuses keys it does not know).
+  const YAML::Node written = YAML::LoadFile((dir / "synth.yaml").string());
+  const io::KeyReadLog key_log;
+  const SynthConfig again = load_synth_params(written);
+  EXPECT_EQ(key_log.unread(written), std::vector<std::string>{});
   EXPECT_EQ(again.num_frames, 4);
   EXPECT_EQ(again.rig.width, 160);
   EXPECT_DOUBLE_EQ(again.rig.baseline, 0.2);

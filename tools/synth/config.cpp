@@ -4,21 +4,9 @@
 
 #include <fmt/format.h>
 
+#include "io/config.hpp"
+
 namespace vkvo::synth {
-namespace {
-
-template <typename T>
-void read(const YAML::Node& section, const char* key, T& value) {
-  const YAML::Node node = section[key];
-  if (!node) return;
-  try {
-    value = node.as<T>();
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error(fmt::format("synth config: key '{}' has the wrong type", key));
-  }
-}
-
-}  // namespace
 
 SynthConfig synth_preset(std::string_view name) {
   SynthConfig config;
@@ -39,37 +27,37 @@ SynthConfig synth_preset(std::string_view name) {
 
 SynthConfig load_synth_params(const YAML::Node& section) {
   std::string preset = "default";
-  if (section) read(section, "preset", preset);
+  if (section) io::read_param(section, "preset", preset);
   SynthConfig c = synth_preset(preset);
   if (!section) return c;
-  read(section, "seed", c.seed);
-  read(section, "frames", c.num_frames);
-  read(section, "rate_hz", c.rate_hz);
-  read(section, "width", c.rig.width);
-  read(section, "height", c.rig.height);
-  read(section, "fx", c.rig.fx);
-  read(section, "fy", c.rig.fy);
-  read(section, "cx", c.rig.cx);
-  read(section, "cy", c.rig.cy);
-  read(section, "baseline", c.rig.baseline);
-  read(section, "speed", c.trajectory.speed);
-  read(section, "yaw_rate_deg", c.trajectory.yaw_rate_deg);
-  read(section, "yaw_sway_deg", c.trajectory.yaw_sway_deg);
-  read(section, "pitch_deg", c.trajectory.pitch_deg);
-  read(section, "pitch_sway_deg", c.trajectory.pitch_sway_deg);
-  read(section, "roll_sway_deg", c.trajectory.roll_sway_deg);
-  read(section, "start_yaw_deg", c.trajectory.start_yaw_deg);
-  read(section, "num_boxes", c.scene.num_boxes);
-  read(section, "texels_per_meter", c.scene.texels_per_meter);
-  read(section, "exposure", c.sensor.exposure);
-  read(section, "read_noise", c.sensor.read_noise);
-  read(section, "shot_noise", c.sensor.shot_noise);
-  read(section, "motion_blur", c.sensor.motion_blur);
-  read(section, "exposure_time", c.sensor.exposure_time);
-  read(section, "blur_samples", c.sensor.blur_samples);
+  io::read_param(section, "seed", c.seed);
+  io::read_param(section, "frames", c.num_frames);
+  io::read_param(section, "rate_hz", c.rate_hz);
+  io::read_param(section, "width", c.rig.width);
+  io::read_param(section, "height", c.rig.height);
+  io::read_param(section, "fx", c.rig.fx);
+  io::read_param(section, "fy", c.rig.fy);
+  io::read_param(section, "cx", c.rig.cx);
+  io::read_param(section, "cy", c.rig.cy);
+  io::read_param(section, "baseline", c.rig.baseline);
+  io::read_param(section, "speed", c.trajectory.speed);
+  io::read_param(section, "yaw_rate_deg", c.trajectory.yaw_rate_deg);
+  io::read_param(section, "yaw_sway_deg", c.trajectory.yaw_sway_deg);
+  io::read_param(section, "pitch_deg", c.trajectory.pitch_deg);
+  io::read_param(section, "pitch_sway_deg", c.trajectory.pitch_sway_deg);
+  io::read_param(section, "roll_sway_deg", c.trajectory.roll_sway_deg);
+  io::read_param(section, "start_yaw_deg", c.trajectory.start_yaw_deg);
+  io::read_param(section, "num_boxes", c.scene.num_boxes);
+  io::read_param(section, "texels_per_meter", c.scene.texels_per_meter);
+  io::read_param(section, "exposure", c.sensor.exposure);
+  io::read_param(section, "read_noise", c.sensor.read_noise);
+  io::read_param(section, "shot_noise", c.sensor.shot_noise);
+  io::read_param(section, "motion_blur", c.sensor.motion_blur);
+  io::read_param(section, "exposure_time", c.sensor.exposure_time);
+  io::read_param(section, "blur_samples", c.sensor.blur_samples);
   if (section["events"]) {
     std::vector<std::string> specs;
-    read(section, "events", specs);
+    io::read_param(section, "events", specs);
     c.events = parse_events(specs);
   }
   return c;
