@@ -9,6 +9,7 @@
 
 #include "app/command.hpp"
 #include "io/config.hpp"
+#include "io/yaml_utils.hpp"
 #include "tools/synth/config.hpp"
 #include "tools/synth/perturb.hpp"
 #include "tools/synth/sequence_writer.hpp"
@@ -45,7 +46,7 @@ int run_synth(const SynthOptions& o) {
 
   SynthConfig config;
   if (!o.config.empty()) {
-    YAML::Node root = YAML::LoadFile(o.config);
+    YAML::Node root = vkvo::io::load_yaml_file(o.config);
     const bool nested = root["synth"].IsDefined();
     YAML::Node section = nested ? root["synth"] : root;
     if (!section["preset"]) section["preset"] = o.preset;

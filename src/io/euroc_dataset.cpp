@@ -99,7 +99,7 @@ CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml, SensorYaml
   if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a YAML map", sensor_yaml.string()));
 
   // A field is read where it is present; an absent one is an error unless the caller has another source for it.
-  const auto read = [&](const char* field) {
+  const auto should_read = [&](const char* field) {
     const YAML::Node node = root[field];
     return (node.IsDefined() && !node.IsNull()) || fields == SensorYamlFields::all_required;
   };
@@ -108,19 +108,19 @@ CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml, SensorYaml
   if (model.IsDefined() && model.as<std::string>() != "pinhole")
     throw std::runtime_error(fmt::format("{}: camera_model '{}' is not supported (pinhole only)", sensor_yaml.string(),
                                          model.as<std::string>()));
-  if (read("resolution")) {
+  if (should_read("resolution")) {
     const auto resolution = required_numbers(root["resolution"], sensor_yaml, "resolution", 2);
     camera.width = static_cast<int>(resolution[0]);
     camera.height = static_cast<int>(resolution[1]);
   }
-  if (read("intrinsics")) {
+  if (should_read("intrinsics")) {
     const auto intrinsics = required_numbers(root["intrinsics"], sensor_yaml, "intrinsics", 4);
     camera.fx = intrinsics[0];
     camera.fy = intrinsics[1];
     camera.cx = intrinsics[2];
     camera.cy = intrinsics[3];
   }
-  if (read("distortion_model")) {
+  if (should_read("distortion_model")) {
     const std::string distortion = required_string(root["distortion_model"], sensor_yaml, "distortion_model");
     try {
       camera.distortion = parse_distortion_model(distortion);
@@ -128,10 +128,10 @@ CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml, SensorYaml
       throw std::runtime_error(fmt::format("{}: field 'distortion_model': {}", sensor_yaml.string(), e.what()));
     }
   }
-  if (read("distortion_coefficients"))
+  if (should_read("distortion_coefficients"))
     camera.distortion_coeffs =
         required_numbers(root["distortion_coefficients"], sensor_yaml, "distortion_coefficients", 0);
-  if (read("T_BS")) {
+  if (should_read("T_BS")) {
     const YAML::Node T_BS = root["T_BS"];
     if (!T_BS.IsDefined() || !T_BS.IsMap())
       throw std::runtime_error(fmt::format("{}: missing field 'T_BS'", sensor_yaml.string()));
