@@ -43,17 +43,12 @@ constexpr std::uint32_t kTiledConvChannels = 8, kTiledConvPixels = 4, kTiledConv
 constexpr std::uint32_t kPooledConvRows = 4;  // ROWS of conv3x3_maxpool_tiled.comp
 constexpr std::uint32_t kTiledConv1x1Pixels = 8;
 
-// gemm_tiled.comp reads fp32 operands 4 per RGBA32F texel and 16-bit ones 8 per RGBA32UI texel.
-vk::Format gemm_texel_format(Precision precision) {
-  return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR32G32B32A32Uint;
-}
-
 }  // namespace
 
 bool tiled_kernels_available(const Context& context, Precision precision) {
   return context.supports_uniform_texel_format(activation_texel_format(precision)) &&
          context.supports_uniform_texel_format(vec4_texel_format(precision)) &&
-         context.supports_uniform_texel_format(gemm_texel_format(precision));
+         context.supports_uniform_texel_format(packed_texel_format(precision));
 }
 
 namespace {
@@ -105,6 +100,11 @@ vk::Format activation_texel_format(Precision precision) {
 vk::Format vec4_texel_format(Precision precision) {
   return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR16G16B16A16Sfloat;
 }
+
+vk::Format packed_texel_format(Precision precision) {
+  return precision == Precision::fp32 ? vk::Format::eR32G32B32A32Sfloat : vk::Format::eR32G32B32A32Uint;
+}
+std::uint32_t values_per_packed_texel(Precision precision) { return precision == Precision::fp32 ? 4 : 8; }
 
 std::size_t activation_bytes(const ActivationShape& shape, Precision precision) {
   return shape.elements() * storage_bytes(precision);
@@ -193,9 +193,9 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
                         .push_constant_bytes = sizeof(GemmPush), .specialization = {kGroupX, kGroupY}}),
       max_texel_elements_(context.caps().max_texel_buffer_elements),
       element_bytes_(storage_bytes(precision)),
-      elements_per_texel_(precision == Precision::fp32 ? 4 : 8),
+      elements_per_texel_(values_per_packed_texel(precision)),
       dummy_bias_(context, 16, BufferKind::device, "gemm.no_bias") {
-  const vk::Format texel = gemm_texel_format(precision);
+  const vk::Format texel = packed_texel_format(precision);
   const bool available = context.supports_uniform_texel_format(texel);
   if ((choice == GemmKernel::tiled || choice == GemmKernel::tiled_wide) && !available)
     throw std::invalid_argument("Gemm: the tiled kernel needs uniform texel-buffer reads of the operand format");

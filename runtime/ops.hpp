@@ -29,6 +29,10 @@ struct ActivationShape {
 // superpoint_detector_head_tiled), and 4 values per texel (weights; conv3x3_tiled's input rows).
 vk::Format activation_texel_format(Precision precision);
 vk::Format vec4_texel_format(Precision precision);
+// 16-byte texels packed as full as the storage precision allows (shaders/include/packed_texel.glsl): 4 fp32
+// values per RGBA32F texel, 8 halves per RGBA32UI texel. The tiled GEMMs' operands, SuperGlue's fused attention.
+vk::Format packed_texel_format(Precision precision);
+std::uint32_t values_per_packed_texel(Precision precision);
 
 // Bytes of a buffer holding `shape` at `precision`.
 std::size_t activation_bytes(const ActivationShape& shape, Precision precision);

@@ -10,19 +10,21 @@
 // Per block of 8 keys an invocation fetches the 8 key rows, computes its kRows x 8 scores, then fetches the 8
 // value rows and adds them to its accumulators, every fetch of a phase before its arithmetic (on lavapipe a texel
 // fetch is a call that clobbers the vector registers; the accumulators live on the stack and are touched once
-// per block). Keys and values are the same texels in every lane of a workgroup. fp32 math in every variant.
+// per block). Keys and values are the same texels in every lane of a workgroup. fp32 math in every variant;
+// 16-bit storage reads 8 halves per fetch (packed_texel.glsl), half the fetches of an RGBA16F view (fp16s at
+// N = M = 1000 on lavapipe: attention 686-717 -> 645-660 ms, the whole call 1.52-1.57 -> 1.46-1.47 s, three
+// alternating pairs; fp32, 4 values per texel, about as fast as that).
 // The key and value fetches serve all kRows rows: 8 rows instead of 4 halve them per multiply-add, and made the
 // attention at N = M = 1000 11 % faster on lavapipe (1.70-2.05 vs 1.90-2.08 s, seven alternating pairs; no
 // change at N = 200 and 400); 16 rows measured no better than 8. GPUs keep 4 rows (see the host) until measured.
-#include "texel_buffer.glsl"
+#include "packed_texel.glsl"
 #extension GL_EXT_control_flow_attributes : require
-#include "precision.glsl"
 
 layout(local_size_x = 16, local_size_y = 1, local_size_z = 1) in;
 layout(constant_id = 0) const uint kHeadVec4 = 16;  // head_dim / 4 (the accumulators are indexed by constants)
 layout(constant_id = 1) const uint kRows = 8;       // query rows per invocation (the host: 8 on CPUs, 4 on GPUs)
 
-layout(binding = 0) uniform textureBuffer qkv;  // rows of [q | k | v], 3 * dim values, 4 per texel
+PACKED_TEXELS(0, qkv);  // rows of [q | k | v], 3 * dim values, kPerTexel per texel (the host: head_dim a multiple)
 layout(std430, binding = 1) writeonly buffer State { sfloat state[]; };  // rows of [descriptor | message]
 
 layout(push_constant) uniform Params {
@@ -35,20 +37,30 @@ layout(push_constant) uniform Params {
 } p;
 
 const uint kKeys = 8;
+const uint kHeadTexels = kHeadVec4 / kVecs;
+
+// dst[0 .. kHeadVec4 - 1] = the head's values of a row, starting at texel `first`.
+#define FETCH_HEAD(first, dst)                                      \
+  [[unroll]] for (uint t = 0; t < kHeadTexels; ++t) {               \
+    vec4 part[kVecs];                                               \
+    FETCH_AS(vec4, qkv, (first) + t, part);                         \
+    [[unroll]] for (uint e = 0; e < kVecs; ++e) dst[t * kVecs + e] = part[e]; \
+  }
 
 void main() {
   const uint head = gl_WorkGroupID.y;
   const uint i0 = gl_GlobalInvocationID.x * kRows;
   if (i0 >= p.queries) return;
-  const uint row_texels = 3u * p.dim / 4u;
-  const uint head_texel = head * kHeadVec4;  // within q, k or v
-  const uint k_texel = p.dim / 4u + head_texel, v_texel = 2u * p.dim / 4u + head_texel;
+  const uint row_texels = 3u * p.dim / kPerTexel;
+  const uint head_texel = head * kHeadTexels;  // within q, k or v
+  const uint k_texel = p.dim / kPerTexel + head_texel, v_texel = 2u * p.dim / kPerTexel + head_texel;
 
   // The query rows, pre-scaled (rows past the end repeat the last one and are not stored).
   vec4 q[kRows][kHeadVec4];
   [[unroll]] for (uint r = 0; r < kRows; ++r) {
     const uint base = (p.query_row0 + min(i0 + r, p.queries - 1u)) * row_texels + head_texel;
-    [[unroll]] for (uint d = 0; d < kHeadVec4; ++d) q[r][d] = texelFetch(qkv, int(base + d)) * p.scale;
+    FETCH_HEAD(base, q[r]);
+    [[unroll]] for (uint d = 0; d < kHeadVec4; ++d) q[r][d] *= p.scale;
   }
 
   vec4 acc[kRows][kHeadVec4];
@@ -65,7 +77,7 @@ void main() {
     [[unroll]] for (uint j = 0; j < kKeys; ++j) {
       const uint base = (p.key_row0 + min(j0 + j, p.keys - 1u)) * row_texels + k_texel;
       vec4 k[kHeadVec4];
-      [[unroll]] for (uint d = 0; d < kHeadVec4; ++d) k[d] = texelFetch(qkv, int(base + d));
+      FETCH_HEAD(base, k);
       [[unroll]] for (uint r = 0; r < kRows; ++r) {
         vec4 partial = q[r][0] * k[0];
         [[unroll]] for (uint d = 1; d < kHeadVec4; ++d) partial += q[r][d] * k[d];
@@ -90,7 +102,7 @@ void main() {
     vec4 v[kKeys][kHeadVec4];
     [[unroll]] for (uint j = 0; j < kKeys; ++j) {
       const uint base = (p.key_row0 + min(j0 + j, p.keys - 1u)) * row_texels + v_texel;
-      [[unroll]] for (uint d = 0; d < kHeadVec4; ++d) v[j][d] = texelFetch(qkv, int(base + d));
+      FETCH_HEAD(base, v[j]);
     }
     [[unroll]] for (uint r = 0; r < kRows; ++r)
       [[unroll]] for (uint d = 0; d < kHeadVec4; ++d) {

@@ -28,9 +28,8 @@
 // unrolled (see there); fp16s: 24 ms with RGBA16F texels, 16.6 ms with 8 halves per texel.
 //
 // Defines before inclusion: ROWS and COLS (a multiple of 8).
-#include "texel_buffer.glsl"
+#include "packed_texel.glsl"
 #extension GL_EXT_control_flow_attributes : require
-#include "precision.glsl"
 
 layout(local_size_x_id = 0, local_size_y = 1, local_size_z = 1) in;
 // C stored a whole vec4 at a time: the host sets it where N, ldc, the offsets and batch stride are multiples of
@@ -44,27 +43,10 @@ layout(constant_id = 1) const bool kVec4Store = false;
 layout(constant_id = 2) const bool kAccumulateC = false;  // C += result (the ReLU, if any, applies to the sum)
 layout(constant_id = 3) const uint kBiasPer = 0;          // 0: no bias; 1: one per column of C (N); 2: per row (M)
 
-// fp32: four elements per RGBA32F texel. 16-bit storage: eight halves per RGBA32UI texel, unpacked here: a
-// texel fetch costs lavapipe about the same whatever the format, so packing 8 halves halves the fetches per
-// multiply-add (an RGBA16F view held 4). The host checks that K, the leading dimensions, offsets and batch
-// strides (and N when B is not transposed) are multiples of kPerTexel.
-#if defined(VKVO_VARIANT_fp32)
-layout(binding = 0) uniform textureBuffer a_texels;  // A
-layout(binding = 1) uniform textureBuffer b_texels;  // B
-const uint kPerTexel = 4;
-#define FETCH(texels, index, dst) dst[0] = avec4(texelFetch(texels, int(index)))
-#else
-layout(binding = 0) uniform utextureBuffer a_texels;  // A
-layout(binding = 1) uniform utextureBuffer b_texels;  // B
-const uint kPerTexel = 8;
-#define FETCH(texels, index, dst)                                                   \
-  {                                                                                 \
-    const uvec4 halves = texelFetch(texels, int(index));                            \
-    dst[0] = avec4(unpackHalf2x16(halves.x), unpackHalf2x16(halves.y));             \
-    dst[1] = avec4(unpackHalf2x16(halves.z), unpackHalf2x16(halves.w));             \
-  }
-#endif
-const uint kVecs = kPerTexel / 4;  // vec4s per texel
+// Operands packed 4 (fp32) or 8 (16-bit storage) per texel, see packed_texel.glsl. The host checks that K, the
+// leading dimensions, offsets and batch strides (and N when B is not transposed) are multiples of kPerTexel.
+PACKED_TEXELS(0, a_texels);  // A
+PACKED_TEXELS(1, b_texels);  // B
 layout(std430, binding = 2) readonly buffer Bias { float bias[]; };
 layout(std430, binding = 3) buffer MatC { sfloat c[]; };
 layout(std430, binding = 3) buffer MatC4 { svec4 c4[]; };

@@ -181,14 +181,15 @@ struct SuperGlue::Impl {
                                            rt::to_string(precision)));
     iterations = params.sinkhorn_iterations > 0 ? params.sinkhorn_iterations : config.sinkhorn_iterations;
     attention_rows_per_invocation = attention_rows(ctx, params.attention_rows);
+    const std::uint32_t head_dim = std::uint32_t(config.descriptor_dim / config.heads);
+    if (params.texel_kernels && ctx.supports_uniform_texel_format(rt::packed_texel_format(precision)) &&
+        head_dim % rt::values_per_packed_texel(precision) == 0)
+      attention_tiled_kernel.emplace(
+          ctx, rt::KernelSpec{.op = "superglue_attention_tiled", .precision = precision, .bindings = 2,
+                              .written_bindings = 1u << 1, .push_constant_bytes = 24,
+                              .specialization = {head_dim / 4, attention_rows_per_invocation},
+                              .texel_formats = {rt::packed_texel_format(precision)}});
     if (params.texel_kernels && ctx.supports_uniform_texel_format(rt::vec4_texel_format(precision))) {
-      const std::uint32_t head_dim = std::uint32_t(config.descriptor_dim / config.heads);
-      if (head_dim % 4 == 0)
-        attention_tiled_kernel.emplace(
-            ctx, rt::KernelSpec{.op = "superglue_attention_tiled", .precision = precision, .bindings = 2,
-                                .written_bindings = 1u << 1, .push_constant_bytes = 24,
-                                .specialization = {head_dim / 4, attention_rows_per_invocation},
-                                .texel_formats = {rt::vec4_texel_format(precision)}});
       if (config.descriptor_dim % 4 == 0)
         scores_tiled_kernel.emplace(
             ctx, rt::KernelSpec{.op = "superglue_scores_tiled", .precision = precision, .bindings = 2,
@@ -214,10 +215,13 @@ struct SuperGlue::Impl {
   // Z's rows and columns padded to whole texels of 4 entries, for the texel-buffer Sinkhorn.
   std::size_t rows_padded() const { return rt::round_up(n0 + 1, 4); }
   std::size_t cols_padded() const { return rt::round_up(n1 + 1, 4); }
-  // Whether a whole buffer at the storage precision fits one texel view of 4 values per texel (Vulkan guarantees
-  // only 65536 texels): the fused attention reads qkv, the tiled score matrix the projected descriptors so.
+  // Whether a whole buffer fits one texel view (Vulkan guarantees only 65536 texels): the tiled score matrix reads
+  // the projected descriptors 4 values per texel, the fused attention qkv in 16-byte packed texels.
+  bool fits_texel_view(const rt::Buffer& buffer, std::size_t texel_bytes) const {
+    return buffer.size() / texel_bytes <= context.caps().max_texel_buffer_elements;
+  }
   bool fits_vec4_texel_view(const rt::Buffer& buffer) const {
-    return buffer.size() / (4 * rt::storage_bytes(precision)) <= context.caps().max_texel_buffer_elements;
+    return fits_texel_view(buffer, 4 * rt::storage_bytes(precision));
   }
   // Whether the texel-buffer Sinkhorn runs at the current size: the device reads RGBA32F texel buffers and both
   // padded copies of Z fit its texel-buffer limit (Vulkan guarantees only 65536 texels).
@@ -389,7 +393,7 @@ struct SuperGlue::Impl {
     const std::uint32_t dim = config.descriptor_dim, heads = config.heads, head_dim = dim / heads;
     const std::uint32_t rows_a = a == 0 ? n0 : n1, rows_s = src == 0 ? n0 : n1;
     const std::uint32_t first_a = a == 0 ? 0 : n0, first_s = src == 0 ? 0 : n0;
-    if (attention_tiled_kernel && fits_vec4_texel_view(*qkv)) {
+    if (attention_tiled_kernel && fits_texel_view(*qkv, 16)) {
       struct AttentionPush {
         std::uint32_t queries, keys, query_row0, key_row0, dim;
         float scale;

@@ -8,6 +8,7 @@
 #include "common/gpu.hpp"
 #include "features/superglue.hpp"
 #include "runtime/context.hpp"
+#include "runtime/ops.hpp"
 #include "superglue_reference.hpp"
 
 namespace vkvo::features {
@@ -20,8 +21,15 @@ std::ptrdiff_t sinkhorn_dispatches(const std::vector<rt::CommandTiming>& timings
   return std::count_if(timings.begin(), timings.end(), [](const auto& t) { return t.label == "sinkhorn"; });
 }
 
+// Attention computed as q.k GEMM, softmax and p.v GEMM rather than by the fused kernel.
+std::ptrdiff_t three_pass_attentions(const std::vector<rt::CommandTiming>& timings) {
+  return std::count_if(timings.begin(), timings.end(),
+                       [](const auto& t) { return t.label.ends_with(" attn q.k"); });
+}
+
 class SuperGlueRandom : public ::testing::TestWithParam<rt::Precision> {
  protected:
+  bool reads_packed_texels() const { return gpu().supports_uniform_texel_format(rt::packed_texel_format(GetParam())); }
   void SetUp() override {
     if (!gpu().caps().supports(GetParam()))
       GTEST_SKIP() << gpu().caps().name << " does not support " << rt::to_string(GetParam());
@@ -136,14 +144,39 @@ TEST_P(SuperGlueRandom, SingleSelfAndCrossAttentionLayers) {
       p.texel_kernels = texel_kernels;
       p.attention_rows = rows;
       SuperGlue net(gpu(), pack, p);
+      net.set_profiling(true);
       // Set sizes that are not multiples of 4 or 8, then multiples of 8: the fused kernel's last query group and
       // key block are partial; the fallback's softmax and p.v GEMM take their general paths, then the vec4
       // softmax and the tiled p.v.
       for (const auto& [n0, n1] : {std::pair{29, 66}, std::pair{24, 40}}) {
         const auto [a, b] = make_pair(n0, n1, 64, 4);
         expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+        if (gpu().caps().timestamps) {
+          EXPECT_EQ(three_pass_attentions(net.last_timings()) == 0, texel_kernels && reads_packed_texels())
+              << "the fused kernel runs where the device reads packed texels, the three passes elsewhere";
+        }
       }
     }
+  }
+}
+
+// A head of 4 dimensions is half a packed texel of halves: the 16-bit variants fall back to the three-pass
+// attention, fp32 (4 values per texel) keeps the fused kernel; both match the reference.
+TEST_P(SuperGlueRandom, HeadsNarrowerThanAPackedTexel) {
+  test::RandomSuperGlueSpec spec;
+  spec.cross = {true};
+  spec.dim = 16;
+  spec.heads = 4;
+  spec.seed = 13;
+  spec.proj_gain = 8.0;
+  const auto pack = test::random_superglue_pack(spec);
+  SuperGlue net(gpu(), pack, params());
+  net.set_profiling(true);
+  const auto [a, b] = make_pair(21, 30, 16, 5);
+  expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+  if (gpu().caps().timestamps) {
+    EXPECT_EQ(three_pass_attentions(net.last_timings()) == 0,
+              GetParam() == rt::Precision::fp32 && reads_packed_texels());
   }
 }
 
