@@ -38,12 +38,12 @@ int run(const Options& o) {
   vkvo::system::VoConfig config = vkvo::system::load_vo_config(o.config);
   if (o.no_lines) config.tracking.use_lines = false;
   if (!o.matcher.empty()) config.matcher = o.matcher;
-  if (!o.precision.empty()) {
-    config.point_detector["precision"] = o.precision;
-    config.point_matcher["precision"] = o.precision;
+  if (!o.precision.empty()) {  // auto (the device's preferred precision) or one that CLI11 has checked
+    config.point_detector.precision = vkvo::rt::parse_precision(o.precision);
+    config.point_matcher.precision = config.point_detector.precision;
   }
 
-  vkvo::io::DatasetOptions dataset_options = vkvo::io::load_dataset_options(config.dataset, config.camera);
+  vkvo::io::DatasetOptions dataset_options = config.dataset;
   if (o.first) dataset_options.range.first = *o.first;
   if (o.stride) dataset_options.range.stride = *o.stride;
   if (o.last) {
@@ -121,7 +121,8 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--last", o->last, "last frame index, inclusive; -1: to the end (dataset.last_frame)");
        sub.add_option("--stride", o->stride, "use every n-th frame (dataset.stride)")->check(CLI::PositiveNumber);
        sub.add_flag("--realtime", o->realtime, "play the sequence back at its recorded rate");
-       sub.add_option("--precision", o->precision, "network precision: auto | fp32 | fp16s | fp16");
+       sub.add_option("--precision", o->precision, "network precision: auto | fp32 | fp16s | fp16")
+           ->check(CLI::IsMember({"auto", "fp32", "fp16s", "fp16"}));
        return std::function<int()>([o] { return run(*o); });
      }}};
 

@@ -11,12 +11,11 @@ class NetworkFrontend final : public PointFrontend {
  public:
   NetworkFrontend(const rt::Context& context, const io::ModelPack& superpoint, const io::ModelPack* superglue,
                   const VoConfig& config)
-      : detector_(context, superpoint, features::load_superpoint_params(config.point_detector)) {
+      : detector_(context, superpoint, config.point_detector) {
     if (superglue)
-      matcher_ = std::make_unique<features::SuperGlue>(context, *superglue,
-                                                       features::load_superglue_params(config.point_matcher));
+      matcher_ = std::make_unique<features::SuperGlue>(context, *superglue, config.point_matcher);
     else
-      matcher_ = std::make_unique<features::NnMatcher>(context, features::load_nn_matcher_params(config.nn_matcher));
+      matcher_ = std::make_unique<features::NnMatcher>(context, config.nn_matcher);
   }
 
   features::PointFeatures detect(const cv::Mat& gray) override { return detector_.detect(gray); }

@@ -5,11 +5,6 @@
 #include <stdexcept>
 
 
-#include "features/nn_matcher.hpp"
-#include "features/superglue.hpp"
-#include "features/superpoint.hpp"
-#include "io/dataset.hpp"
-
 namespace vkvo::system {
 
 TrackingParams load_tracking_params(const YAML::Node& section) {
@@ -36,24 +31,22 @@ VoConfig load_vo_config(const io::Config& config) {
   vo.optimization = backend::load_optimization_params(config.section("optimization"));
   vo.keyframe = backend::load_keyframe_params(config.section("keyframe"));
   vo.map = map::load_map_params(config.section("map"));
-  vo.point_detector = config.section("point_detector");
-  vo.point_matcher = config.section("point_matcher");
-  vo.nn_matcher = config.section("nn_matcher");
-  vo.camera = config.section("camera");
+  // Every section is parsed here, those of components a run may not use too (SuperGlue's under the NN matcher),
+  // so that a wrong key or value stops the run before any work.
+  vo.point_detector = features::load_superpoint_params(config.section("point_detector"));
+  vo.point_matcher = features::load_superglue_params(config.section("point_matcher"));
+  vo.nn_matcher = features::load_nn_matcher_params(config.section("nn_matcher"));
+  YAML::Node camera = config.section("camera");
   // A Kalibr camchain named in the camera section is relative to the config file, wherever the run starts.
-  if (const auto camchain = io::param<std::string>(vo.camera, "kalibr", ""); !camchain.empty()) {
+  if (const auto camchain = io::param<std::string>(camera, "kalibr", ""); !camchain.empty()) {
     const std::filesystem::path path(camchain);
     if (path.is_relative() && !config.origin().empty() && std::filesystem::exists(config.origin()))
-      vo.camera["kalibr"] = (std::filesystem::path(config.origin()).parent_path() / path).lexically_normal().string();
+      camera["kalibr"] = (std::filesystem::path(config.origin()).parent_path() / path).lexically_normal().string();
   }
-  vo.dataset = config.section("dataset");
-  // The sections the feature stage and the dataset reader load later, parsed now to check their keys and values
-  // up front (and for the components a run may not use, e.g. SuperGlue's under the NN matcher).
-  features::load_superpoint_params(vo.point_detector);
-  features::load_superglue_params(vo.point_matcher);
-  features::load_nn_matcher_params(vo.nn_matcher);
-  io::load_dataset_options(vo.dataset, vo.camera);
-  io::apply_camera_overrides(vo.camera, {});
+  vo.dataset = io::load_dataset_options(config.section("dataset"), camera);
+  // The camera section is applied when the dataset opens (on top of its calibration); applied to nothing now, it
+  // checks its keys and values (and reads a Kalibr file named there) up front.
+  io::apply_camera_overrides(camera, {});
   const YAML::Node models = config.section("models");
   io::read_param(models, "matcher", vo.matcher);
   if (vo.matcher != "superglue" && vo.matcher != "nn")

@@ -8,8 +8,12 @@
 
 #include "backend/params.hpp"
 #include "features/lines/line_params.hpp"
+#include "features/nn_matcher.hpp"
+#include "features/superglue.hpp"
+#include "features/superpoint.hpp"
 #include "geometry/triangulation.hpp"
 #include "io/config.hpp"
+#include "io/dataset.hpp"
 #include "map/map.hpp"
 
 namespace vkvo::system {
@@ -41,11 +45,13 @@ struct VoConfig {
   backend::OptimizationParams optimization;        // section optimization
   backend::KeyframeParams keyframe;                // section keyframe
   map::MapParams map;                              // section map
-  YAML::Node point_detector;                       // SuperPoint parameters (features/superpoint.hpp)
-  YAML::Node point_matcher;                        // SuperGlue parameters (features/superglue.hpp)
-  YAML::Node nn_matcher;                           // mutual-nearest-neighbour fallback (features/nn_matcher.hpp)
-  YAML::Node camera;                               // calibration overrides (io::apply_camera_overrides)
-  YAML::Node dataset;                              // frame range, stereo pairing (io::load_dataset_options)
+  features::SuperPointParams point_detector;       // section point_detector
+  features::SuperGlueParams point_matcher;         // section point_matcher
+  features::NnMatcherParams nn_matcher;            // section nn_matcher: the mutual-nearest-neighbour fallback
+  // Sections dataset (frame range, stereo pairing) and camera (calibration overrides, kept as YAML: they apply
+  // on top of the dataset's own calibration when it is opened; a Kalibr file named there is already resolved
+  // against the config's folder).
+  io::DatasetOptions dataset;
   std::string matcher = "superglue";               // superglue | nn   (section models: matcher)
   std::filesystem::path superpoint_model;          // section models: superpoint (pack path; may be empty)
   std::filesystem::path superglue_model;           // section models: superglue

@@ -24,7 +24,7 @@ fs::path config_file(const char* name) { return test::source_dir() / "config" / 
 // The calibration a config's camera section gives on its own (as for a dataset folder without sensor.yaml).
 io::StereoCalibration calibration_of(const fs::path& file) {
   const VoConfig config = load_vo_config(file);
-  const io::StereoCalibration calibration = io::apply_camera_overrides(config.camera, {});
+  const io::StereoCalibration calibration = io::apply_camera_overrides(config.dataset.camera_overrides, {});
   io::validate_calibration(calibration, file.string());
   return calibration;
 }
@@ -63,7 +63,7 @@ TEST(DatasetConfigs, EveryShippedConfigLoads) {
     SCOPED_TRACE(entry.path().string());
     const VoConfig config = load_vo_config(entry.path());
     EXPECT_GT(config.keyframe.max_frames, 0);
-    if (config.camera.IsDefined() && !config.camera.IsNull()) {
+    if (config.dataset.camera_overrides.IsDefined() && !config.dataset.camera_overrides.IsNull()) {
       EXPECT_NO_THROW(calibration_of(entry.path()));
     }
     ++count;

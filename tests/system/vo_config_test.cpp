@@ -77,7 +77,10 @@ TEST(VoConfig, EverySectionIsCheckedAtLoad) {
   const VoConfig config = load_vo_config(io::Config::from_string(
       "models: {matcher: nn}\npoint_matcher: {sinkhorn_iterations: 50}\nnn_matcher: {min_similarity: 0.8}\n"
       "dataset: {first_frame: 3}\ncamera: {fx: 400, left: {T_camera_body: [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0]}}\n"));
-  EXPECT_EQ(io::load_dataset_options(config.dataset, config.camera).range.first, 3u);
+  EXPECT_EQ(config.dataset.range.first, 3u);
+  EXPECT_EQ(config.point_matcher.sinkhorn_iterations, 50);
+  EXPECT_NEAR(config.nn_matcher.max_cosine_distance, 0.2f, 1e-6f);
+  EXPECT_EQ(io::apply_camera_overrides(config.dataset.camera_overrides, {}).left.fx, 400.0);
 }
 
 }  // namespace

@@ -22,8 +22,7 @@ VoRun run_vo_on(const std::filesystem::path& dataset_dir, const system::VoConfig
                 const std::filesystem::path& out_dir, const io::FrameRange& range) {
   const char* verbose = std::getenv("VKVO_TEST_VERBOSE");
   if (verbose && *verbose && *verbose != '0') spdlog::set_level(spdlog::level::debug);
-  io::DatasetOptions options;
-  options.camera_overrides = config.camera;
+  io::DatasetOptions options = config.dataset;
   options.range = range;
   const auto dataset = io::open_dataset(dataset_dir, options);
   system::RunOptions run_options;

@@ -66,7 +66,7 @@ TEST(VoSynth, RunsFromImageNamesAndTheConfigsCameras) {
   }
   VoConfig config = small_preset_config();
   const auto& rig = synth.rig;
-  config.camera = YAML::Load(fmt::format(
+  config.dataset.camera_overrides = YAML::Load(fmt::format(
       "{{width: {}, height: {}, fx: {}, fy: {}, cx: {}, cy: {},"
       " left: {{distortion_model: radtan, distortion_coeffs: [0, 0, 0, 0]}},"
       " right: {{distortion_model: radtan, distortion_coeffs: [0, 0, 0, 0],"
