@@ -237,6 +237,17 @@ bool DeviceCaps::supports(Precision p) const {
   return false;
 }
 
+void DeviceCaps::require(Precision p, std::string_view user) const {
+  if (supports(p)) return;
+  const char* lacks =
+      !storage_16bit ? "16-bit storage (storageBuffer16BitAccess)" : "float16 arithmetic (shaderFloat16)";
+  std::string usable;
+  for (const Precision q : kAllPrecisions)
+    if (supports(q)) usable += (usable.empty() ? "" : ", ") + std::string(to_string(q));
+  throw std::runtime_error(fmt::format("{}: device '{}' does not support precision {}: it lacks {}; use {} or auto",
+                                       user, name, to_string(p), lacks, usable));
+}
+
 Precision DeviceCaps::preferred_precision() const {
   if (type == "cpu") return Precision::fp32;
   if (supports(Precision::fp16)) return Precision::fp16;
@@ -272,6 +283,7 @@ Context::Context(const ContextOptions& options)
   const std::string selector = options.device.empty() ? env_or_empty("VKVO_DEVICE") : options.device;
   const std::uint32_t chosen = choose_device(devices, selector);
   caps_ = devices[chosen];
+  if (!options.use_16bit) caps_.storage_16bit = caps_.float16_arithmetic = false;
   physical_device_ = std::move(vk::raii::PhysicalDevices(instance_)[chosen]);
   if (caps_.api_version < VK_API_VERSION_1_1)
     throw VulkanError(fmt::format("device '{}' supports only Vulkan {}.{}; vkvo needs 1.1", caps_.name,

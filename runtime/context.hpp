@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <vulkan/vulkan_raii.hpp>
@@ -54,6 +55,9 @@ struct DeviceCaps {
   std::vector<MemoryHeap> heaps;
 
   bool supports(Precision p) const;
+  // Throws std::runtime_error unless the device supports `p`, naming `user` (e.g. "SuperPoint"), the device, the
+  // feature it lacks and the precisions it has.
+  void require(Precision p, std::string_view user) const;
   // fp16 math where the device has it natively (GPUs), else fp16 storage with fp32 math where the device has
   // 16-bit storage, else fp32. CPU devices get fp32: lavapipe emulates fp16 math (~7x slower), and halving the
   // storage saves no bandwidth that matters there while converting the halves costs (SuperPoint 752x480 on
@@ -72,6 +76,10 @@ struct ContextOptions {
   // Where the on-disk pipeline cache lives. Empty: $VKVO_CACHE_DIR, $XDG_CACHE_HOME/vkvo or ~/.cache/vkvo.
   std::filesystem::path cache_dir;
   bool pipeline_cache = true;
+  // false: the device is created without its 16-bit storage and arithmetic features, as on a device that lacks
+  // them: only fp32 runs, `auto` precision picks it and an explicit fp16 / fp16s is an error naming the device.
+  // For a driver whose 16-bit paths misbehave, and to test what vkvo does on such a device.
+  bool use_16bit = true;
 };
 
 // Lists every Vulkan device (throws VulkanError naming the cause when there is no loader, driver or device).

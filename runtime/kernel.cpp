@@ -8,11 +8,7 @@
 namespace vkvo::rt {
 
 Kernel::Kernel(const Context& context, KernelSpec spec) : spec_(std::move(spec)) {
-  if (!context.caps().supports(spec_.precision))
-    throw VulkanError(fmt::format("device '{}' cannot run {} shaders ({}): {}", context.caps().name,
-                                  to_string(spec_.precision), spec_.op,
-                                  spec_.precision == Precision::fp16 ? "no shaderFloat16 arithmetic"
-                                                                     : "no 16-bit storage buffer access"));
+  context.caps().require(spec_.precision, "shader " + spec_.op);
   const auto words = find_shader(spec_.op, spec_.precision);
   const auto& device = context.device();
 

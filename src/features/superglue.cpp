@@ -176,9 +176,7 @@ struct SuperGlue::Impl {
                             .written_bindings = 0b110u, .push_constant_bytes = 8, .specialization = {}}),
         mutual_kernel(ctx, {.op = "superglue_mutual", .precision = precision, .bindings = 4,
                             .written_bindings = 0b1100u, .push_constant_bytes = 12, .specialization = {}}) {
-    if (!ctx.caps().supports(precision))
-      throw std::runtime_error(fmt::format("SuperGlue: device '{}' does not support precision {}", ctx.caps().name,
-                                           rt::to_string(precision)));
+    ctx.caps().require(precision, "SuperGlue");
     iterations = params.sinkhorn_iterations > 0 ? params.sinkhorn_iterations : config.sinkhorn_iterations;
     attention_rows_per_invocation = attention_rows(ctx, params.attention_rows);
     const std::uint32_t head_dim = std::uint32_t(config.descriptor_dim / config.heads);

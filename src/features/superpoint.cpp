@@ -46,9 +46,7 @@ SuperPoint::SuperPoint(const rt::Context& context, const io::ModelPack& pack, co
     : context_(context), params_(params), precision_(params.precision.value_or(context.caps().preferred_precision())) {
   if (pack.kind() != io::NetworkKind::superpoint)
     throw std::runtime_error(fmt::format("model pack '{}' is not a SuperPoint pack", pack.source()));
-  if (!context.caps().supports(precision_))
-    throw std::runtime_error(fmt::format("device {} does not support precision {}", context.caps().name,
-                                         rt::to_string(precision_)));
+  context.caps().require(precision_, "SuperPoint");
   if (params.keypoint_threshold < 0.0f || params.nms_radius < 0)
     throw std::invalid_argument("SuperPoint: keypoint_threshold and nms_radius must be >= 0");
   if (pack.has("detector_channels") && pack.integer("detector_channels") != 65)

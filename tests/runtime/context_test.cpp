@@ -1,7 +1,14 @@
+#include <cstdlib>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "common/gpu.hpp"
+#include "common/test_support.hpp"
 #include "runtime/context.hpp"
+#include "runtime/kernel.hpp"
 
 namespace vkvo::rt {
 namespace {
@@ -45,6 +52,43 @@ TEST(Context, UnknownDeviceSelectorIsAClearError) {
     EXPECT_NE(std::string(e.what()).find("no-such-gpu-xyz"), std::string::npos) << e.what();
   }
   EXPECT_THROW(Context({.device = "999", .validation = false, .pipeline_cache = false}), VulkanError);
+}
+
+TEST(Context, WithoutSixteenBitFeaturesOnlyFp32Runs) {
+  const Context context({.pipeline_cache = false, .use_16bit = false});
+  EXPECT_TRUE(context.caps().supports(Precision::fp32));
+  EXPECT_FALSE(context.caps().supports(Precision::fp16s));
+  EXPECT_FALSE(context.caps().supports(Precision::fp16));
+  EXPECT_EQ(context.caps().preferred_precision(), Precision::fp32);
+  EXPECT_NO_THROW(context.caps().require(Precision::fp32, "test"));
+  const std::string error = test::error_of([&] {
+    Kernel kernel(context, {.op = "gemm", .precision = Precision::fp16s, .bindings = 4, .written_bindings = 1u << 3,
+                            .push_constant_bytes = 4, .specialization = {}});
+  });
+  EXPECT_NE(error.find("shader gemm: device '" + context.caps().name + "' does not support precision fp16s"),
+            std::string::npos) << error;
+  EXPECT_NE(error.find("16-bit storage"), std::string::npos) << error;
+}
+
+// With no driver for the loader to find, creating a context fails with the step and a hint, not a crash.
+TEST(Context, NoVulkanDriverIsAClearError) {
+  // Both names the loader reads for the driver manifests (VK_DRIVER_FILES from loader 1.3.207 on).
+  const char* names[] = {"VK_ICD_FILENAMES", "VK_DRIVER_FILES"};
+  std::vector<std::optional<std::string>> saved;
+  for (const char* name : names) {
+    const char* value = std::getenv(name);
+    saved.push_back(value ? std::optional<std::string>(value) : std::nullopt);
+    ::setenv(name, "/nonexistent/vkvo_no_driver.json", 1);
+  }
+  const std::string error = test::error_of([] { Context context({.validation = false, .pipeline_cache = false}); });
+  for (std::size_t i = 0; i < saved.size(); ++i) {
+    if (saved[i]) ::setenv(names[i], saved[i]->c_str(), 1);
+    else ::unsetenv(names[i]);
+  }
+  EXPECT_NE(error.find("Vulkan"), std::string::npos) << error;
+  EXPECT_NE(error.find("vulkaninfo"), std::string::npos) << error;
+  // The next context finds the driver again.
+  EXPECT_NO_THROW(Context({.validation = false, .pipeline_cache = false}));
 }
 
 TEST(Context, PipelineCacheIsWrittenToDisk) {

@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "common/gpu.hpp"
+#include "common/test_support.hpp"
 #include "features/superpoint.hpp"
 #include "io/config.hpp"
 #include "runtime/ops.hpp"
@@ -237,6 +238,24 @@ TEST(SuperPointErrors, RejectsWrongImages) {
   EXPECT_THROW(sp.detect(cv::Mat()), std::invalid_argument);
   EXPECT_THROW(sp.detect(cv::Mat(8, 40, CV_8UC1, cv::Scalar(0))), std::invalid_argument);
   EXPECT_THROW(sp.detect(cv::Mat(40, 40, CV_8UC3, cv::Scalar(0))), std::invalid_argument);
+}
+
+// A device without 16-bit features (here lavapipe created without them): `auto` runs fp32, an explicit fp16 or
+// fp16s is refused before any pipeline is built, with the device, the missing feature and the way out named.
+TEST(SuperPointErrors, DeviceWithout16BitFeatures) {
+  const rt::Context fp32_only({.pipeline_cache = false, .use_16bit = false});
+  const auto pack = random_pack(1);
+  SuperPoint automatic(fp32_only, pack);
+  EXPECT_EQ(automatic.precision(), rt::Precision::fp32);
+  EXPECT_GT(automatic.detect(random_image(64, 48, 3)).keypoints.size(), 0u);
+  for (const auto precision : {rt::Precision::fp16s, rt::Precision::fp16}) {
+    SuperPointParams params;
+    params.precision = precision;
+    const std::string error = test::error_of([&] { SuperPoint sp(fp32_only, pack, params); });
+    for (const std::string& part :
+         std::vector<std::string>{"SuperPoint", fp32_only.caps().name, "16-bit storage", "use fp32 or auto"})
+      EXPECT_NE(error.find(part), std::string::npos) << part << " not in: " << error;
+  }
 }
 
 }  // namespace
