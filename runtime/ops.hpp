@@ -33,6 +33,7 @@ vk::Format vec4_texel_format(Precision precision);
 // values per RGBA32F texel, 8 halves per RGBA32UI texel. The tiled GEMMs' operands, SuperGlue's fused attention.
 vk::Format packed_texel_format(Precision precision);
 std::uint32_t values_per_packed_texel(Precision precision);
+inline constexpr std::size_t kPackedTexelBytes = 16;
 
 // Bytes of a buffer holding `shape` at `precision`.
 std::size_t activation_bytes(const ActivationShape& shape, Precision precision);

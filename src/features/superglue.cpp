@@ -391,7 +391,7 @@ struct SuperGlue::Impl {
     const std::uint32_t dim = config.descriptor_dim, heads = config.heads, head_dim = dim / heads;
     const std::uint32_t rows_a = a == 0 ? n0 : n1, rows_s = src == 0 ? n0 : n1;
     const std::uint32_t first_a = a == 0 ? 0 : n0, first_s = src == 0 ? 0 : n0;
-    if (attention_tiled_kernel && fits_texel_view(*qkv, 16)) {
+    if (attention_tiled_kernel && fits_texel_view(*qkv, rt::kPackedTexelBytes)) {
       struct AttentionPush {
         std::uint32_t queries, keys, query_row0, key_row0, dim;
         float scale;

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <stdexcept>
 
-
 namespace vkvo::system {
 
 TrackingParams load_tracking_params(const YAML::Node& section) {
