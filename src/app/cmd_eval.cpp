@@ -49,13 +49,15 @@ int run_eval(const EvalCommandOptions& opts) {
 
   std::vector<double> estimate_times;  // a KITTI-format estimate shares the ground truth's clock
   if (!opts.kitti_times.empty()) estimate_times = io::read_kitti_times(opts.kitti_times);
-  const io::Trajectory estimate = io::read_trajectory(opts.estimate, io::TrajectoryFormat::automatic, estimate_times);
+  const io::TrajectoryFormat estimate_format = io::detect_trajectory_format(opts.estimate);
+  const io::Trajectory estimate = io::read_trajectory(opts.estimate, estimate_format, estimate_times);
 
   eval::EvalOptions options;
   options.alignment = eval::parse_alignment_mode(opts.align);
   options.max_dt_s = opts.max_dt;
   options.rpe.lengths_m = opts.rpe_lengths;
   options.rpe.step = opts.rpe_step;
+  options.positions_only = !gt.has_orientation || estimate_format == io::TrajectoryFormat::positions;
   const eval::EvaluationResult result = eval::evaluate(estimate, gt.poses, options);
 
   fmt::print("estimate:     {}\nground truth: {} ({}; {} frame)\n\n", opts.estimate, opts.groundtruth, gt.note,
@@ -87,11 +89,12 @@ vkvo::app::CommandRegistration registration{
     {"eval", "compare a trajectory with ground truth: ATE, RPE, drift, plot",
      [](CLI::App& sub) {
        auto opts = std::make_shared<EvalCommandOptions>();
-       sub.add_option("--estimate", opts->estimate, "estimated trajectory (TUM, EuRoC CSV or KITTI poses)")
+       sub.add_option("--estimate", opts->estimate, "estimated trajectory (TUM, EuRoC CSV, KITTI poses or positions)")
            ->required()
            ->check(CLI::ExistingFile);
        sub.add_option("--groundtruth", opts->groundtruth,
-                      "ground truth: TUM, EuRoC CSV (state_groundtruth_estimate0 or EuRoC_left_cam) or KITTI poses")
+                      "ground truth: TUM, EuRoC CSV (state_groundtruth_estimate0 or EuRoC_left_cam), KITTI poses, "
+                      "or positions only ('t x y z' / 'timestamp_ns,x,y,z': no rotation errors)")
            ->required()
            ->check(CLI::ExistingFile);
        sub.add_option("--align", opts->align, "alignment before measuring")

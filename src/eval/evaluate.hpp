@@ -17,6 +17,9 @@ struct EvalOptions {
   AlignmentMode alignment = AlignmentMode::se3;
   double max_dt_s = 0.02;  // association tolerance
   RpeOptions rpe;
+  // A trajectory gives positions only (io::GroundTruth::has_orientation false, or an estimate in that format): no
+  // rotation errors, RPE on displacements, drift anchored at the first position (see metrics.hpp).
+  bool positions_only = false;
 };
 
 // Reads an `eval:` config section: align (none|se3|sim3, "se3"), max_dt_s (0.02), rpe_lengths_m ([] = 10..50 %
@@ -29,6 +32,7 @@ struct EvaluationResult {
   std::size_t associated_poses = 0;
   double duration_s = 0;                // first to last associated timestamp
   AlignmentMode alignment = AlignmentMode::se3;
+  bool positions_only = false;
   AteResult ate;                         // ate.alignment is the transform applied to the estimate
   RpeResult rpe;                         // on the aligned estimate (so a sim3 scale is accounted for)
   DriftResult drift;                     // anchored at the first pose, with the sim3 scale when aligning sim3

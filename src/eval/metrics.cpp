@@ -38,14 +38,15 @@ double rotation_angle_deg(const Eigen::Matrix3d& R) {
   return std::atan2(0.5 * sin_axis.norm(), cos_angle) * 180.0 / M_PI;
 }
 
-AteResult compute_ate(const AssociatedPoses& poses, AlignmentMode mode) {
+AteResult compute_ate(const AssociatedPoses& poses, AlignmentMode mode, bool positions_only) {
   AteResult result;
   result.alignment = align_positions(positions(poses.estimate), positions(poses.groundtruth), mode);
   std::vector<double> rotation_errors;
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const Eigen::Isometry3d aligned = result.alignment.apply(poses.estimate[i]);
     result.translation_errors.push_back((poses.groundtruth[i].translation() - aligned.translation()).norm());
-    rotation_errors.push_back(rotation_angle_deg(poses.groundtruth[i].linear().transpose() * aligned.linear()));
+    if (!positions_only)
+      rotation_errors.push_back(rotation_angle_deg(poses.groundtruth[i].linear().transpose() * aligned.linear()));
   }
   result.translation_m = compute_stats(result.translation_errors);
   result.rotation_deg = compute_stats(std::move(rotation_errors));
@@ -78,11 +79,17 @@ RpeResult compute_rpe(const std::vector<Eigen::Isometry3d>& estimate, const std:
         j = std::max(j, i);
         while (j < groundtruth.size() && distance[j] - distance[i] < length) ++j;  // j only moves forward
         if (j == groundtruth.size()) break;
-        const Eigen::Isometry3d delta_gt = groundtruth[i].inverse() * groundtruth[j];
-        const Eigen::Isometry3d delta_est = estimate[i].inverse() * estimate[j];
-        const Eigen::Isometry3d error = delta_est.inverse() * delta_gt;
-        segment_t += error.translation().norm() / length;
-        segment_r += rotation_angle_deg(error.linear()) / length;
+        if (options.positions_only) {
+          const Eigen::Vector3d displacement_gt = groundtruth[j].translation() - groundtruth[i].translation();
+          const Eigen::Vector3d displacement_est = estimate[j].translation() - estimate[i].translation();
+          segment_t += (displacement_est - displacement_gt).norm() / length;
+        } else {
+          const Eigen::Isometry3d delta_gt = groundtruth[i].inverse() * groundtruth[j];
+          const Eigen::Isometry3d delta_est = estimate[i].inverse() * estimate[j];
+          const Eigen::Isometry3d error = delta_est.inverse() * delta_gt;
+          segment_t += error.translation().norm() / length;
+          segment_r += rotation_angle_deg(error.linear()) / length;
+        }
         ++segment.count;
       }
       if (segment.count > 0) {
@@ -102,10 +109,18 @@ RpeResult compute_rpe(const std::vector<Eigen::Isometry3d>& estimate, const std:
   return result;
 }
 
-DriftResult compute_drift(const AssociatedPoses& poses, double scale) {
+DriftResult compute_drift(const AssociatedPoses& poses, double scale, const std::optional<Eigen::Matrix3d>& rotation) {
   DriftResult drift;
   if (poses.size() < 2) return drift;
-  const Similarity anchor = align_first_pose(poses.estimate.front(), poses.groundtruth.front(), scale);
+  Similarity anchor;
+  if (rotation) {
+    anchor.scale = scale;
+    anchor.rotation = *rotation;
+    anchor.translation =
+        poses.groundtruth.front().translation() - scale * *rotation * poses.estimate.front().translation();
+  } else {
+    anchor = align_first_pose(poses.estimate.front(), poses.groundtruth.front(), scale);
+  }
   drift.final_error_m =
       (anchor.apply(Eigen::Vector3d(poses.estimate.back().translation())) - poses.groundtruth.back().translation())
           .norm();

@@ -22,6 +22,7 @@ const char* to_string(TrajectoryFormat format) {
     case TrajectoryFormat::tum: return "tum";
     case TrajectoryFormat::euroc_csv: return "euroc_csv";
     case TrajectoryFormat::kitti: return "kitti";
+    case TrajectoryFormat::positions: return "positions";
   }
   return "unknown";
 }
@@ -134,6 +135,24 @@ Trajectory read_euroc_csv(const fs::path& file, std::size_t* columns) {
   return trajectory;
 }
 
+Trajectory read_positions(const fs::path& file) {
+  Trajectory trajectory;
+  for_each_data_line(file, [&](const std::string& line, std::size_t line_number) {
+    const bool comma = line.find(',') != std::string::npos;
+    const auto fields = comma ? split_fields(line, ',') : split_numbers(line);
+    if (fields.size() != 4)
+      throw std::runtime_error(fmt::format("{}:{}: expected 4 fields, 't x y z' or 'timestamp_ns,x,y,z', got {}",
+                                           file.string(), line_number, fields.size()));
+    const double t = comma ? static_cast<double>(parse_timestamp_ns(fields[0], file, line_number)) * 1e-9
+                           : parse_double(fields[0], file, line_number);
+    const auto v = parse_all(std::vector<std::string>(fields.begin() + 1, fields.end()), file, line_number);
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+    trajectory.push_back({t, pose});
+  });
+  return trajectory;
+}
+
 std::vector<double> read_kitti_times(const fs::path& file) {
   std::vector<double> times;
   for_each_data_line(file, [&](const std::string& line, std::size_t line_number) {
@@ -171,9 +190,10 @@ TrajectoryFormat detect_trajectory_format(const fs::path& file) {
   if (line.find(',') != std::string::npos && fields.size() >= 8) return TrajectoryFormat::euroc_csv;
   if (fields.size() == 12) return TrajectoryFormat::kitti;
   if (fields.size() == 8) return TrajectoryFormat::tum;
-  throw std::runtime_error(fmt::format(
-      "{}: unknown trajectory format ({} fields on the first line; expected TUM (8), KITTI (12) or EuRoC CSV)",
-      file.string(), fields.size()));
+  if (fields.size() == 4) return TrajectoryFormat::positions;
+  throw std::runtime_error(fmt::format("{}: unknown trajectory format ({} fields on the first line; expected TUM "
+                                       "(8), KITTI (12), EuRoC CSV or positions 't x y z' (4))",
+                                       file.string(), fields.size()));
 }
 
 Trajectory read_trajectory(const fs::path& file, TrajectoryFormat format, const std::vector<double>& kitti_times) {
@@ -182,6 +202,7 @@ Trajectory read_trajectory(const fs::path& file, TrajectoryFormat format, const 
     case TrajectoryFormat::tum: return read_tum(file);
     case TrajectoryFormat::euroc_csv: return read_euroc_csv(file);
     case TrajectoryFormat::kitti: return read_kitti_poses(file, kitti_times);
+    case TrajectoryFormat::positions: return read_positions(file);
     case TrajectoryFormat::automatic: break;
   }
   throw std::logic_error("read_trajectory: unresolved format");
@@ -221,6 +242,16 @@ GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& opt
                            : std::string("KITTI poses, nominal 10 Hz timestamps");
       break;
     }
+    case TrajectoryFormat::positions:
+      if (frame == PoseFrame::body)
+        throw std::runtime_error(fmt::format("{}: positions only: body poses cannot be converted to the camera "
+                                             "without their orientation", file.string()));
+      gt.poses = read_positions(file);
+      gt.has_orientation = false;
+      frame = PoseFrame::camera;  // the tracked point's frame is unknown; nothing to convert without rotations
+      gt.note = "positions only (no orientation): ATE on positions, RPE on displacements, no rotation errors; "
+                "the tracked point's offset from the camera is in the errors";
+      break;
     default:
       gt.poses = read_tum(file);
       gt.note = "TUM";

@@ -1,5 +1,5 @@
 #pragma once
-// Trajectory files: TUM (our output), EuRoC ground-truth CSV, KITTI poses.txt.
+// Trajectory files: TUM (our output), EuRoC ground-truth CSV, KITTI poses.txt, and positions without orientation.
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -23,6 +23,9 @@ enum class TrajectoryFormat {
   tum,        // "t x y z qx qy qz qw", blank separated, seconds
   euroc_csv,  // "timestamp_ns,px,py,pz,qw,qx,qy,qz[,...]", comma separated, '#' header
   kitti,      // 12 numbers per line: the 3x4 row-major pose, one line per frame
+  // 4 fields per line, positions without orientation (a total station's prism, GNSS): "t x y z" blank separated
+  // with t in seconds, or "timestamp_ns,x,y,z" comma separated. The poses read have identity rotations.
+  positions,
 };
 const char* to_string(TrajectoryFormat format);
 
@@ -56,12 +59,15 @@ Trajectory read_tum(const std::filesystem::path& file);
 // EuRoC CSV: state_groundtruth_estimate0/data.csv (17 columns, body pose) or the 8-column cam0 form of
 // ORB-SLAM3's EuRoC_left_cam/*_GT.txt. `columns` receives the column count of the data lines.
 Trajectory read_euroc_csv(const std::filesystem::path& file, std::size_t* columns = nullptr);
+// Positions only (TrajectoryFormat::positions): identity rotations.
+Trajectory read_positions(const std::filesystem::path& file);
 // KITTI poses.txt. Timestamps from `times` (one per line of the file) or, when empty, index * 0.1 s.
 Trajectory read_kitti_poses(const std::filesystem::path& file, const std::vector<double>& times = {});
 // KITTI times.txt: one time in seconds per line.
 std::vector<double> read_kitti_times(const std::filesystem::path& file);
 
-// From the first data line: comma separated with >= 8 fields -> euroc_csv; 12 numbers -> kitti; 8 -> tum.
+// From the first data line: comma separated with >= 8 fields -> euroc_csv; 12 numbers -> kitti; 8 -> tum;
+// 4 -> positions.
 TrajectoryFormat detect_trajectory_format(const std::filesystem::path& file);
 // Any format; KITTI timestamps from `kitti_times` or index * 0.1 s.
 Trajectory read_trajectory(const std::filesystem::path& file, TrajectoryFormat format = TrajectoryFormat::automatic,
@@ -88,6 +94,7 @@ struct GroundTruth {
   Trajectory poses;  // left-camera poses in the world when body_to_camera_applied or the file is camera-frame
   TrajectoryFormat format = TrajectoryFormat::automatic;
   PoseFrame frame = PoseFrame::camera;         // the frame of `poses` after conversion
+  bool has_orientation = true;                 // false: positions only (their rotations are identity)
   bool body_to_camera_applied = false;
   std::optional<std::filesystem::path> sensor_yaml;  // where T_BS came from (unset when given directly)
   std::string note;                                  // a human-readable account of the above
@@ -95,7 +102,8 @@ struct GroundTruth {
 
 // Reads a ground-truth file of any format and expresses it as left-camera poses where it can: body poses are
 // composed with cam0's T_BS (T_world_cam = T_world_body * T_BS). Body poses without a sensor.yaml stay body poses
-// (frame == body) with a warning: ATE then includes the camera's lever arm.
+// (frame == body) with a warning: ATE then includes the camera's lever arm. Positions-only files are taken as
+// they are (has_orientation false): whatever point they track, its offset from the camera is in the errors.
 GroundTruth read_groundtruth(const std::filesystem::path& file, const GroundTruthOptions& options = {});
 
 class StereoDataset;

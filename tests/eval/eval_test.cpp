@@ -278,3 +278,79 @@ TEST(Report, OptionsFromConfigSection) {
     EXPECT_NE(std::string(e.what()).find("'align'"), std::string::npos) << e.what();
   }
 }
+
+// Positions-only ground truth (a total station, GNSS): the same helix with its orientations dropped gives the same
+// position ATE as the full poses; rotation errors are absent; a rigid copy has no RPE and no drift.
+TEST(PositionsOnly, AteMatchesFullPosesWithoutRotationErrors) {
+  const io::Trajectory gt = helix(300);
+  const Isometry3d S = make_pose(Vector3d(0.2, -0.9, 0.4), Vector3d(2, -1, 3));
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  io::Trajectory est, rigid, gt_positions;
+  for (const auto& p : gt) {
+    Isometry3d pose = S.inverse() * p.pose;
+    rigid.push_back({p.t, pose});
+    pose.translation() += Vector3d(noise(rng), noise(rng), noise(rng));
+    est.push_back({p.t, pose});
+    Isometry3d position = Isometry3d::Identity();
+    position.translation() = p.pose.translation();
+    gt_positions.push_back({p.t, position});
+  }
+  eval::EvalOptions options;
+  const auto full = eval::evaluate(est, gt, options);
+  options.positions_only = true;
+  const auto positions = eval::evaluate(est, gt_positions, options);
+  EXPECT_NEAR(positions.ate.translation_m.rmse, full.ate.translation_m.rmse, 1e-12);
+  EXPECT_EQ(positions.ate.rotation_deg.count, 0u);
+  EXPECT_DOUBLE_EQ(positions.rpe.rotation_deg_per_m, 0.0);
+  EXPECT_GT(positions.rpe.translation_percent, 0.0);
+  const auto json = eval::to_json(positions);
+  EXPECT_TRUE(json["ate_rotation_deg"].is_null());
+  EXPECT_TRUE(json["rpe"]["rotation_deg_per_m"].is_null());
+  EXPECT_TRUE(json["poses"]["positions_only"].get<bool>());
+  EXPECT_NE(eval::format_table(positions).find("n/a"), std::string::npos);
+
+  // Noise-free rigid copy: alignment recovers S, every displacement matches, and the drift anchor (the ATE
+  // rotation at the first position) leaves no final error, although the first pose's orientation is unknown.
+  const auto exact = eval::evaluate(rigid, gt_positions, options);
+  EXPECT_LT(exact.ate.translation_m.max, 1e-9);
+  EXPECT_LT(exact.rpe.translation_percent, 1e-9);
+  EXPECT_LT(exact.drift.final_error_m, 1e-9);
+  EXPECT_GT(exact.rpe.count, 0u);
+}
+
+// Hand-computed RPE on displacements: a straight 1 m-step path, one estimate position 0.1 m off sideways. Of the
+// 8 segments of 2 m, the two that start or end at that pose are 0.1 m off (5 %), the rest exact: mean 1.25 %.
+TEST(PositionsOnly, RpeOnDisplacementsHandComputed) {
+  const auto gt = straight_line(10);
+  auto est = gt;
+  est[5].translation().y() += 0.1;
+  eval::RpeOptions options;
+  options.lengths_m = {2.0};
+  options.positions_only = true;
+  const auto rpe = eval::compute_rpe(est, gt, options);
+  ASSERT_EQ(rpe.segments.size(), 1u);
+  EXPECT_EQ(rpe.count, 8u);
+  EXPECT_NEAR(rpe.translation_percent, 1.25, 1e-12);
+  EXPECT_DOUBLE_EQ(rpe.rotation_deg_per_m, 0.0);
+}
+
+// Drift without orientations: the estimate (another frame, turned 0.8 rad) is turned back by the given rotation and
+// anchored at the first position; it ends 0.5 m off sideways over 10 m.
+TEST(PositionsOnly, DriftAnchoredAtTheFirstPosition) {
+  const auto gt = straight_line(11);
+  const Isometry3d offset = make_pose(Vector3d(0, 0, 0.8), Vector3d(3, 4, 5));
+  eval::AssociatedPoses poses;
+  for (int k = 0; k < 11; ++k) {
+    Isometry3d truth = gt[k];
+    if (k == 10) truth.translation().y() += 0.5;
+    Isometry3d estimate = Isometry3d::Identity();  // positions only
+    estimate.translation() = (offset * truth).translation();
+    poses.t.push_back(k);
+    poses.groundtruth.push_back(gt[k]);
+    poses.estimate.push_back(estimate);
+  }
+  const auto drift = eval::compute_drift(poses, 1.0, Eigen::Matrix3d(offset.linear().transpose()));
+  EXPECT_NEAR(drift.final_error_m, 0.5, 1e-12);
+  EXPECT_NEAR(drift.percent, 5.0, 1e-10);
+}

@@ -95,6 +95,36 @@ TEST(EurocCsv, ReadsBothColumnLayouts) {
   EXPECT_EQ(io::detect_trajectory_format(dir / "gt8.txt"), io::TrajectoryFormat::euroc_csv);
 }
 
+TEST(Positions, BlankSecondsOrCommaNanosecondsWithIdentityRotations) {
+  const fs::path dir = test::temp_dir("positions");
+  write_text(dir / "seconds.txt", "# t x y z\n10.5 1 2 3\n10.6 1.5 2 3\n");
+  write_text(dir / "ns.csv", "#timestamp [ns],x,y,z\n1403636580863555584,4,5,6\n");
+  EXPECT_EQ(io::detect_trajectory_format(dir / "seconds.txt"), io::TrajectoryFormat::positions);
+  EXPECT_EQ(io::detect_trajectory_format(dir / "ns.csv"), io::TrajectoryFormat::positions);
+  const auto seconds = io::read_trajectory(dir / "seconds.txt");
+  ASSERT_EQ(seconds.size(), 2u);
+  EXPECT_DOUBLE_EQ(seconds[1].t, 10.6);
+  EXPECT_TRUE(seconds[1].pose.translation().isApprox(Eigen::Vector3d(1.5, 2, 3)));
+  EXPECT_TRUE(seconds[1].pose.linear().isIdentity());
+  const auto ns = io::read_positions(dir / "ns.csv");
+  ASSERT_EQ(ns.size(), 1u);
+  EXPECT_NEAR(ns[0].t, 1403636580.863555584, 3e-7);
+  EXPECT_TRUE(ns[0].pose.translation().isApprox(Eigen::Vector3d(4, 5, 6)));
+
+  const io::GroundTruth gt = io::read_groundtruth(dir / "seconds.txt");
+  EXPECT_FALSE(gt.has_orientation);
+  EXPECT_EQ(gt.format, io::TrajectoryFormat::positions);
+  EXPECT_NE(gt.note.find("positions only"), std::string::npos);
+  // Body poses need their orientation to reach the camera: asking for that conversion is an error.
+  EXPECT_NE(test::error_of([&] { io::read_groundtruth(dir / "seconds.txt", {.frame = io::PoseFrame::body}); })
+                .find("positions only"),
+            std::string::npos);
+  // A line of another width names the file and line.
+  write_text(dir / "ragged.txt", "1 2 3 4\n5 6 7\n");
+  EXPECT_NE(test::error_of([&] { io::read_positions(dir / "ragged.txt"); }).find("ragged.txt:2"), std::string::npos);
+  EXPECT_TRUE(io::read_groundtruth(dir / "ns.csv").poses.size() == 1u);
+}
+
 TEST(GroundTruth, EurocBodyPosesAreConvertedWithTbs) {
   // mav0/state_groundtruth_estimate0/data.csv (17 columns) + mav0/cam0/sensor.yaml with a known T_BS.
   const fs::path mav0 = test::temp_dir("gt_body") / "mav0";
