@@ -23,6 +23,7 @@ struct EvalCommandOptions {
   std::string plot;
   std::string json;
   std::string gt_frame = "auto";
+  std::string gt_orientation = "auto";
   std::string body_to_camera;
   std::string kitti_times;
   std::vector<double> rpe_lengths;
@@ -36,6 +37,15 @@ vkvo::io::PoseFrame parse_frame(const std::string& name) {
   throw std::runtime_error(fmt::format("--gt-frame: unknown frame '{}' (auto, body or camera)", name));
 }
 
+vkvo::io::GroundTruthOrientation parse_orientation(const std::string& name) {
+  using O = vkvo::io::GroundTruthOrientation;
+  if (name == "auto") return O::automatic;
+  if (name == "as-written") return O::as_written;
+  if (name == "inverse") return O::inverse;
+  if (name == "none") return O::none;
+  throw std::runtime_error(fmt::format("--gt-orientation: unknown '{}' (auto, as-written, inverse or none)", name));
+}
+
 int run_eval(const EvalCommandOptions& opts) {
   using namespace vkvo;
   io::GroundTruthOptions gt_options;
@@ -45,6 +55,7 @@ int run_eval(const EvalCommandOptions& opts) {
     if (gt_options.frame == io::PoseFrame::automatic) gt_options.frame = io::PoseFrame::body;
   }
   if (!opts.kitti_times.empty()) gt_options.kitti_times = opts.kitti_times;
+  gt_options.orientation = parse_orientation(opts.gt_orientation);
   const io::GroundTruth gt = io::read_groundtruth(opts.groundtruth, gt_options);
 
   std::vector<double> estimate_times;  // a KITTI-format estimate shares the ground truth's clock
@@ -111,6 +122,11 @@ vkvo::app::CommandRegistration registration{
                       "cam0 sensor.yaml whose T_BS converts body ground truth to the camera (default: "
                       "<gt dir>/../cam0/sensor.yaml when present)")
            ->check(CLI::ExistingFile);
+       sub.add_option("--gt-orientation", opts->gt_orientation,
+                      "ground-truth rotations: auto (as written; inverted for ORB-SLAM3's EuRoC_left_cam files, "
+                      "which give world-to-camera rotations), as-written, inverse, none (positions only)")
+           ->check(CLI::IsMember({"auto", "as-written", "inverse", "none"}))
+           ->capture_default_str();
        sub.add_option("--kitti-times", opts->kitti_times, "KITTI times.txt for poses files (default: found or 10 Hz)")
            ->check(CLI::ExistingFile);
        sub.add_option("--rpe-lengths", opts->rpe_lengths,

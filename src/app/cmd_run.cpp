@@ -95,7 +95,9 @@ int run(const Options& o) {
              result.keyframes_file.string(), result.summary.string(), (o.out / "map.ply").string());
   if (const auto gt = vkvo::io::read_dataset_groundtruth(*dataset)) {
     try {
-      const auto evaluation = vkvo::eval::evaluate(vkvo::io::read_tum(result.trajectory), gt->poses);
+      vkvo::eval::EvalOptions eval_options;
+      eval_options.positions_only = !gt->has_orientation;
+      const auto evaluation = vkvo::eval::evaluate(vkvo::io::read_tum(result.trajectory), gt->poses, eval_options);
       fmt::print("ATE RMSE {:.4f} m (SE3 alignment, {} poses) against {}\n", evaluation.ate.translation_m.rmse,
                  evaluation.associated_poses, dataset->groundtruth_path()->string());
     } catch (const std::exception& e) {

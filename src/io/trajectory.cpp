@@ -220,12 +220,25 @@ std::optional<fs::path> find_kitti_times(const fs::path& poses_file) {
   return std::nullopt;
 }
 
+// `automatic` resolved by the caller (see GroundTruthOrientation::automatic).
+void apply_orientation(GroundTruth& gt, GroundTruthOrientation orientation) {
+  if (orientation == GroundTruthOrientation::inverse) {
+    for (auto& stamped : gt.poses) stamped.pose.linear() = stamped.pose.linear().transpose().eval();
+    gt.note += "; rotations inverted (the file gives world-to-camera rotations)";
+  } else if (orientation == GroundTruthOrientation::none && gt.has_orientation) {
+    for (auto& stamped : gt.poses) stamped.pose.linear().setIdentity();
+    gt.has_orientation = false;
+    gt.note += "; rotations ignored (positions only)";
+  }
+}
+
 }  // namespace
 
 GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& options) {
   GroundTruth gt;
   gt.format = detect_trajectory_format(file);
   PoseFrame frame = options.frame;
+  bool orbslam3_euroc = false;  // ORB-SLAM3's EuRoC ground truth (see GroundTruthOrientation::automatic)
   switch (gt.format) {
     case TrajectoryFormat::euroc_csv: {
       std::size_t columns = 0;
@@ -233,6 +246,7 @@ GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& opt
       // state_groundtruth_estimate0 has p, q, v, b_w, b_a (17 columns); the 8-column form is the cam0 pose.
       if (frame == PoseFrame::automatic) frame = columns >= 17 ? PoseFrame::body : PoseFrame::camera;
       gt.note = fmt::format("EuRoC CSV with {} columns", columns);
+      orbslam3_euroc = columns == 8 && file.parent_path().filename() == "EuRoC_left_cam";
       break;
     }
     case TrajectoryFormat::kitti: {
@@ -257,6 +271,10 @@ GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& opt
       gt.note = "TUM";
       break;
   }
+  GroundTruthOrientation orientation = options.orientation;
+  if (orientation == GroundTruthOrientation::automatic)
+    orientation = orbslam3_euroc ? GroundTruthOrientation::inverse : GroundTruthOrientation::as_written;
+  apply_orientation(gt, orientation);
   if (frame == PoseFrame::automatic) frame = PoseFrame::camera;
   gt.frame = frame;
   if (frame == PoseFrame::body) {

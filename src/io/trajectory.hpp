@@ -77,6 +77,19 @@ Trajectory read_trajectory(const std::filesystem::path& file, TrajectoryFormat f
 // estimates are left-camera (cam0) poses.
 enum class PoseFrame { automatic, body, camera };
 
+// How a ground-truth file's rotations are read.
+enum class GroundTruthOrientation {
+  // As written, except ORB-SLAM3's EuRoC ground truth (an 8-column EuRoC CSV in a folder named EuRoC_left_cam,
+  // as found beside a sequence): inverse. Those files give cam0's position in the world but the world-to-camera
+  // rotation (on MH_01, read as written, every pose is ~121 deg off after alignment and the KITTI-style RPE is
+  // 170 %; inverted, the rotation error is the alignment's own 1.8 deg and the RPE agrees with the
+  // positions-only one).
+  automatic,
+  as_written,
+  inverse,  // the file's rotation is world-to-frame: use its transpose
+  none,     // ignore the rotations: positions only (GroundTruth::has_orientation false)
+};
+
 struct GroundTruthOptions {
   // automatic: a 17-column EuRoC CSV (state_groundtruth_estimate0) is the body pose; everything else is taken to
   // be the left-camera pose (TUM, KITTI poses.txt, the 8-column EuRoC_left_cam files).
@@ -88,6 +101,7 @@ struct GroundTruthOptions {
   // KITTI: times.txt. When absent: times.txt next to poses.txt, or ../sequences/<stem>/times.txt (official
   // layout), else 10 Hz nominal.
   std::optional<std::filesystem::path> kitti_times;
+  GroundTruthOrientation orientation = GroundTruthOrientation::automatic;
 };
 
 struct GroundTruth {

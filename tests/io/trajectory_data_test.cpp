@@ -18,8 +18,13 @@ TEST(GroundTruthData, EurocLeftCamGroundTruth) {
   EXPECT_NEAR(gt.poses[0].t, 1403636580.863555584, 3e-7);
   EXPECT_NEAR(gt.poses[0].pose.translation().x(), 4.6650211767, 1e-12);
   EXPECT_NEAR(gt.poses[0].pose.translation().z(), 0.7812067206, 1e-12);
-  const Eigen::Quaterniond q(gt.poses[0].pose.rotation());
-  EXPECT_NEAR(std::abs(q.w()), 0.4502123789, 1e-8);
+  // The file's rotation is world-to-camera (GroundTruthOrientation::automatic): read inverted.
+  const Eigen::Matrix3d written =
+      Eigen::Quaterniond(0.4502123789, 0.6912148472, 0.4743667630, -0.307419945794).normalized().toRotationMatrix();
+  EXPECT_TRUE(gt.poses[0].pose.linear().isApprox(written.transpose(), 1e-9));
+  EXPECT_NE(gt.note.find("inverted"), std::string::npos) << gt.note;
+  const auto as_written = io::read_groundtruth(file, {.orientation = io::GroundTruthOrientation::as_written});
+  EXPECT_TRUE(as_written.poses[0].pose.linear().isApprox(written, 1e-9));
 }
 
 TEST(GroundTruthData, KittiPoses) {

@@ -125,6 +125,33 @@ TEST(Positions, BlankSecondsOrCommaNanosecondsWithIdentityRotations) {
   EXPECT_TRUE(io::read_groundtruth(dir / "ns.csv").poses.size() == 1u);
 }
 
+// ORB-SLAM3's EuRoC ground truth (8 columns in a folder named EuRoC_left_cam) has world-to-camera rotations: read
+// inverted by default; the same file elsewhere is read as written; either can be forced, or the rotations dropped.
+TEST(GroundTruth, OrientationAsWrittenInvertedOrIgnored) {
+  const fs::path base = test::temp_dir("gt_orientation");
+  const double c = std::sqrt(0.5);  // 90 deg about z
+  const std::string rows = fmt::format("#timestamp [ns],px,py,pz,qw,qx,qy,qz\n1000000000,1,2,3,{0},0,0,{0}\n"
+                                       "1100000000,1,2,4,{0},0,0,{0}\n", c);
+  fs::create_directories(base / "EuRoC_left_cam");
+  write_text(base / "EuRoC_left_cam" / "MH01_GT.txt", rows);
+  write_text(base / "other_gt.csv", rows);
+  const Eigen::Matrix3d written = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const auto orbslam3 = io::read_groundtruth(base / "EuRoC_left_cam" / "MH01_GT.txt");
+  EXPECT_TRUE(orbslam3.poses[1].pose.linear().isApprox(written.transpose(), 1e-12));
+  EXPECT_TRUE(orbslam3.has_orientation);
+  const auto other = io::read_groundtruth(base / "other_gt.csv");
+  EXPECT_TRUE(other.poses[1].pose.linear().isApprox(written, 1e-12));
+  using O = io::GroundTruthOrientation;
+  EXPECT_TRUE(io::read_groundtruth(base / "EuRoC_left_cam" / "MH01_GT.txt", {.orientation = O::as_written})
+                  .poses[1].pose.linear().isApprox(written, 1e-12));
+  EXPECT_TRUE(io::read_groundtruth(base / "other_gt.csv", {.orientation = O::inverse})
+                  .poses[1].pose.linear().isApprox(written.transpose(), 1e-12));
+  const auto ignored = io::read_groundtruth(base / "other_gt.csv", {.orientation = O::none});
+  EXPECT_FALSE(ignored.has_orientation);
+  EXPECT_TRUE(ignored.poses[1].pose.linear().isIdentity());
+  EXPECT_TRUE(ignored.poses[1].pose.translation().isApprox(Eigen::Vector3d(1, 2, 4)));
+}
+
 TEST(GroundTruth, EurocBodyPosesAreConvertedWithTbs) {
   // mav0/state_groundtruth_estimate0/data.csv (17 columns) + mav0/cam0/sensor.yaml with a known T_BS.
   const fs::path mav0 = test::temp_dir("gt_body") / "mav0";
