@@ -220,17 +220,6 @@ std::optional<fs::path> find_kitti_times(const fs::path& poses_file) {
   return std::nullopt;
 }
 
-// `automatic` resolved by the caller (see GroundTruthOrientation::automatic).
-void apply_orientation(GroundTruth& gt, GroundTruthOrientation orientation) {
-  if (orientation == GroundTruthOrientation::inverse) {
-    for (auto& stamped : gt.poses) stamped.pose.linear() = stamped.pose.linear().transpose().eval();
-    gt.note += "; rotations inverted (the file gives world-to-camera rotations)";
-  } else if (orientation == GroundTruthOrientation::none && gt.has_orientation) {
-    for (auto& stamped : gt.poses) stamped.pose.linear().setIdentity();
-    gt.has_orientation = false;
-    gt.note += "; rotations ignored (positions only)";
-  }
-}
 
 }  // namespace
 
@@ -274,7 +263,10 @@ GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& opt
   GroundTruthOrientation orientation = options.orientation;
   if (orientation == GroundTruthOrientation::automatic)
     orientation = orbslam3_euroc ? GroundTruthOrientation::inverse : GroundTruthOrientation::as_written;
-  apply_orientation(gt, orientation);
+  if (orientation == GroundTruthOrientation::inverse) {  // before a body-to-camera conversion, which needs them
+    for (auto& stamped : gt.poses) stamped.pose.linear() = stamped.pose.linear().transpose().eval();
+    gt.note += "; rotations inverted (the file gives world-to-frame rotations)";
+  }
   if (frame == PoseFrame::automatic) frame = PoseFrame::camera;
   gt.frame = frame;
   if (frame == PoseFrame::body) {
@@ -297,6 +289,11 @@ GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& opt
                    "the camera frame); errors will include the body-camera lever arm",
                    file.string());
     }
+  }
+  if (orientation == GroundTruthOrientation::none && gt.has_orientation) {  // after the conversion, which used them
+    for (auto& stamped : gt.poses) stamped.pose.linear().setIdentity();
+    gt.has_orientation = false;
+    gt.note += "; rotations ignored (positions only)";
   }
   return gt;
 }

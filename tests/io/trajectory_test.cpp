@@ -178,6 +178,13 @@ TEST(GroundTruth, EurocBodyPosesAreConvertedWithTbs) {
                   .pose.translation()
                   .isApprox(Eigen::Vector3d(1, 0, 2), 1e-12));
   given = {};
+  // Rotations dropped: the conversion still used the yaw (the camera lands at +y), then the rotation is identity.
+  given.orientation = io::GroundTruthOrientation::none;
+  const auto positions = io::read_groundtruth(mav0 / "state_groundtruth_estimate0" / "data.csv", given);
+  EXPECT_FALSE(positions.has_orientation);
+  EXPECT_TRUE(positions.poses[0].pose.translation().isApprox(Eigen::Vector3d(1, 0.5, 0.1), 1e-12));
+  EXPECT_TRUE(positions.poses[0].pose.linear().isIdentity());
+  given = {};
   given.frame = io::PoseFrame::camera;  // forced: no conversion
   EXPECT_FALSE(io::read_groundtruth(mav0 / "state_groundtruth_estimate0" / "data.csv", given).body_to_camera_applied);
 
