@@ -97,7 +97,10 @@ nlohmann::json to_json(const EvaluationResult& result) {
                {"translation_percent", result.rpe.translation_percent},
                {"rotation_deg_per_m", rotation_or_null(result.rpe.rotation_deg_per_m)},
                {"segments", segments}}},
-      {"drift", {{"definition", "|p_est_last - p_gt_last| / gt path length, estimate anchored at the first pose"},
+      {"drift", {{"definition", result.positions_only ? "|p_est_last - p_gt_last| / gt path length, estimate turned "
+                                                        "by the ATE rotation and anchored at the first position"
+                                                      : "|p_est_last - p_gt_last| / gt path length, estimate "
+                                                        "anchored at the first pose"},
                  {"final_error_m", result.drift.final_error_m},
                  {"path_length_m", result.drift.path_length_m},
                  {"percent", result.drift.percent}}},
@@ -127,8 +130,9 @@ std::string format_table(const EvaluationResult& r) {
     rpe_row(fmt::format("{:.3f}", s.length_m), s.count, s.translation_percent, s.rotation_deg_per_m);
   rpe_row("all", r.rpe.count, r.rpe.translation_percent, r.rpe.rotation_deg_per_m);
   out += fmt::format("\ndrift: {:.4f} m over {:.3f} m = {:.3f} % (final position error after anchoring the first "
-                     "pose, / ground-truth path length)\n",
-                     r.drift.final_error_m, r.drift.path_length_m, r.drift.percent);
+                     "{}, / ground-truth path length)\n",
+                     r.drift.final_error_m, r.drift.path_length_m, r.drift.percent,
+                     r.positions_only ? "position" : "pose");
   return out;
 }
 

@@ -196,18 +196,29 @@ TEST(Rpe, HeadingRateErrorGivesExactDegreesPerMetre) {
   EXPECT_NEAR(rpe.rotation_deg_per_m, 0.01 * 180 / M_PI, 1e-9);
 }
 
-TEST(Drift, FinalErrorOverPathLengthAfterFirstPoseAnchor) {
+namespace {
+
+// The 10 m straight line and an estimate of it that lives in another frame (`offset`) and ends 0.5 m off
+// sideways; with `positions_only` the estimate's rotations are dropped.
+eval::AssociatedPoses drifting_estimate(const Isometry3d& offset, bool positions_only) {
   const auto gt = straight_line(11);
-  // The estimate lives in another frame (rigid offset) and ends 0.5 m off sideways.
-  const Isometry3d offset = make_pose(Vector3d(0, 0, 0.8), Vector3d(3, 4, 5));
   eval::AssociatedPoses poses;
   for (int k = 0; k < 11; ++k) {
     Isometry3d truth = gt[k];
     if (k == 10) truth.translation().y() += 0.5;
+    Isometry3d estimate = offset * truth;
+    if (positions_only) estimate.linear().setIdentity();
     poses.t.push_back(k);
     poses.groundtruth.push_back(gt[k]);
-    poses.estimate.push_back(offset * truth);
+    poses.estimate.push_back(estimate);
   }
+  return poses;
+}
+
+}  // namespace
+
+TEST(Drift, FinalErrorOverPathLengthAfterFirstPoseAnchor) {
+  const auto poses = drifting_estimate(make_pose(Vector3d(0, 0, 0.8), Vector3d(3, 4, 5)), false);
   const auto drift = eval::compute_drift(poses);
   EXPECT_NEAR(drift.path_length_m, 10.0, 1e-12);
   EXPECT_NEAR(drift.final_error_m, 0.5, 1e-12);
@@ -338,18 +349,8 @@ TEST(PositionsOnly, RpeOnDisplacementsHandComputed) {
 // Drift without orientations: the estimate (another frame, turned 0.8 rad) is turned back by the given rotation and
 // anchored at the first position; it ends 0.5 m off sideways over 10 m.
 TEST(PositionsOnly, DriftAnchoredAtTheFirstPosition) {
-  const auto gt = straight_line(11);
   const Isometry3d offset = make_pose(Vector3d(0, 0, 0.8), Vector3d(3, 4, 5));
-  eval::AssociatedPoses poses;
-  for (int k = 0; k < 11; ++k) {
-    Isometry3d truth = gt[k];
-    if (k == 10) truth.translation().y() += 0.5;
-    Isometry3d estimate = Isometry3d::Identity();  // positions only
-    estimate.translation() = (offset * truth).translation();
-    poses.t.push_back(k);
-    poses.groundtruth.push_back(gt[k]);
-    poses.estimate.push_back(estimate);
-  }
+  const auto poses = drifting_estimate(offset, true);
   const auto drift = eval::compute_drift(poses, 1.0, Eigen::Matrix3d(offset.linear().transpose()));
   EXPECT_NEAR(drift.final_error_m, 0.5, 1e-12);
   EXPECT_NEAR(drift.percent, 5.0, 1e-10);
