@@ -192,7 +192,6 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
     : kernel_(context, {.op = "gemm", .precision = precision, .bindings = 4, .written_bindings = 1u << 3,
                         .push_constant_bytes = sizeof(GemmPush), .specialization = {kGroupX, kGroupY}}),
       max_texel_elements_(context.caps().max_texel_buffer_elements),
-      element_bytes_(storage_bytes(precision)),
       elements_per_texel_(values_per_packed_texel(precision)),
       dummy_bias_(context, 16, BufferKind::device, "gemm.no_bias") {
   const vk::Format texel = packed_texel_format(precision);
@@ -258,7 +257,7 @@ bool Gemm::uses_tiled_kernel(const GemmShape& s, const Binding& a, const Binding
   const std::uint32_t per_texel = elements_per_texel_;
   const auto texels = [&](const Binding& x) {
     const std::size_t bytes = x.range == VK_WHOLE_SIZE ? x.buffer->size() - x.offset : x.range;
-    return bytes / (per_texel * element_bytes_);
+    return bytes / kPackedTexelBytes;
   };
   return a.offset % 256 == 0 && b.offset % 256 == 0 && texels(a) <= max_texel_elements_ &&
          texels(b) <= max_texel_elements_ &&

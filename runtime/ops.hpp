@@ -157,7 +157,6 @@ class Gemm {
   std::unique_ptr<TiledVariants> tiled_;  // null where the device cannot read the operands as texels
   TiledGemmTile tile_;
   std::size_t max_texel_elements_;
-  std::size_t element_bytes_;
   std::uint32_t elements_per_texel_;  // of gemm_tiled.comp's operand views
   Buffer dummy_bias_;
 };
