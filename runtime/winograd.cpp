@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <span>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -23,16 +25,35 @@ struct OutputPush {
 constexpr std::uint32_t kGroup = 64;  // local_size_x of the transform shaders
 
 
-// G of F(4x4, 3x3): the filter transform U = G g G^T (6 x 3).
-constexpr std::array<std::array<double, 3>, 6> kG{{{1.0 / 4, 0, 0},
-                                                  {-1.0 / 6, -1.0 / 6, -1.0 / 6},
-                                                  {-1.0 / 6, 1.0 / 6, -1.0 / 6},
-                                                  {1.0 / 24, 1.0 / 12, 1.0 / 6},
-                                                  {1.0 / 24, -1.0 / 12, 1.0 / 6},
-                                                  {0, 0, 1}}};
+// G of F(4x4, 3x3) and of F(6x6, 3x3): the filter transform U = G g G^T ((m + 2) x 3), for the interpolation
+// points of the shaders' B^T and A^T (shaders/include/winograd_f43.glsl, winograd_f63.glsl).
+constexpr std::array<std::array<double, 3>, 6> kG43{{{1.0 / 4, 0, 0},
+                                                    {-1.0 / 6, -1.0 / 6, -1.0 / 6},
+                                                    {-1.0 / 6, 1.0 / 6, -1.0 / 6},
+                                                    {1.0 / 24, 1.0 / 12, 1.0 / 6},
+                                                    {1.0 / 24, -1.0 / 12, 1.0 / 6},
+                                                    {0, 0, 1}}};
+constexpr std::array<std::array<double, 3>, 8> kG63{{{1, 0, 0},
+                                                    {-2.0 / 9, -2.0 / 9, -2.0 / 9},
+                                                    {-2.0 / 9, 2.0 / 9, -2.0 / 9},
+                                                    {1.0 / 90, 1.0 / 45, 2.0 / 45},
+                                                    {1.0 / 90, -1.0 / 45, 2.0 / 45},
+                                                    {32.0 / 45, 16.0 / 45, 8.0 / 45},
+                                                    {32.0 / 45, -16.0 / 45, 8.0 / 45},
+                                                    {0, 0, 1}}};
+
+std::span<const std::array<double, 3>> filter_transform(WinogradConv3x3::Tile tile) {
+  if (tile == WinogradConv3x3::Tile::f63) return kG63;
+  return kG43;
+}
+
+// The shaders built for `tile`: winograd_f43_<stage> or winograd_f63_<stage>.
+std::string shader(WinogradConv3x3::Tile tile, const char* stage) {
+  return fmt::format("winograd_f{}3_{}", std::uint32_t(tile), stage);
+}
 
 // The last binding is written; the first `texel_bindings` are read through RGBA texel views.
-KernelSpec transform_spec(const char* op, Precision precision, std::uint32_t bindings, std::uint32_t push_bytes,
+KernelSpec transform_spec(const std::string& op, Precision precision, std::uint32_t bindings, std::uint32_t push_bytes,
                           std::uint32_t texel_bindings = 1) {
   return {.op = op, .precision = precision, .bindings = bindings, .written_bindings = 1u << (bindings - 1),
           .push_constant_bytes = push_bytes, .specialization = {},
@@ -50,39 +71,42 @@ Precision checked_precision(const Context& context, Precision precision) {
 
 }  // namespace
 
-WinogradConv3x3::WinogradConv3x3(const Context& context, Precision precision, std::size_t max_band_bytes)
-    : input_transform_(context, transform_spec("winograd_f43_input", checked_precision(context, precision), 2,
+WinogradConv3x3::WinogradConv3x3(const Context& context, Precision precision, Tile tile, std::size_t max_band_bytes)
+    : tile_(tile),
+      input_transform_(context, transform_spec(shader(tile, "input"), checked_precision(context, precision), 2,
                                                sizeof(InputPush))),
-      stem_input_transform_(context, transform_spec("winograd_f43_input_stem", precision, 4, sizeof(InputPush), 2)),
-      output_transform_(context, transform_spec("winograd_f43_output", precision, 3, sizeof(OutputPush))),
-      output_pool_transform_(context,
-                             transform_spec("winograd_f43_output_maxpool", precision, 3, sizeof(OutputPush))),
+      stem_input_transform_(context, transform_spec(shader(tile, "input_stem"), precision, 4, sizeof(InputPush), 2)),
+      output_transform_(context, transform_spec(shader(tile, "output"), precision, 3, sizeof(OutputPush))),
+      output_pool_transform_(context, transform_spec(shader(tile, "output_maxpool"), precision, 3,
+                                                     sizeof(OutputPush))),
       gemm_(context, precision),
       max_texel_elements_(context.caps().max_texel_buffer_elements),
       max_band_bytes_(std::min<std::size_t>({max_band_bytes, context.caps().max_storage_buffer_range,
                                               std::size_t(context.caps().max_texel_buffer_elements) * 16})) {}
 
 std::vector<float> WinogradConv3x3::transform_weights(std::span<const float> o4, std::uint32_t out_channels,
-                                                      std::uint32_t in_channels) {
+                                                      std::uint32_t in_channels, Tile tile) {
   const std::size_t out4 = round_up(out_channels, 4);
   if (o4.size() != out4 * in_channels * 9)
     throw std::invalid_argument(fmt::format("WinogradConv3x3: {} weights are not a {}x{}x3x3 o4 tensor", o4.size(),
                                             out_channels, in_channels));
-  std::vector<float> u(kPoints * out4 * in_channels, 0.0f);
+  const auto G = filter_transform(tile);
+  const std::size_t n = G.size();  // m + 2
+  std::vector<float> u(n * n * out4 * in_channels, 0.0f);
   for (std::size_t o = 0; o < out_channels; ++o)
     for (std::size_t i = 0; i < in_channels; ++i) {
       const auto g = [&](std::size_t r, std::size_t c) {
         return double(o4[(((o / 4) * in_channels + i) * 9 + r * 3 + c) * 4 + o % 4]);
       };
-      double gg[6][3] = {};  // G g
-      for (std::size_t a = 0; a < 6; ++a)
+      double gg[8][3] = {};  // G g
+      for (std::size_t a = 0; a < n; ++a)
         for (std::size_t c = 0; c < 3; ++c)
-          for (std::size_t r = 0; r < 3; ++r) gg[a][c] += kG[a][r] * g(r, c);
-      for (std::size_t a = 0; a < 6; ++a)
-        for (std::size_t b = 0; b < 6; ++b) {
+          for (std::size_t r = 0; r < 3; ++r) gg[a][c] += G[a][r] * g(r, c);
+      for (std::size_t a = 0; a < n; ++a)
+        for (std::size_t b = 0; b < n; ++b) {
           double value = 0;  // (G g G^T)[a][b]
-          for (std::size_t c = 0; c < 3; ++c) value += gg[a][c] * kG[b][c];
-          u[((a * 6 + b) * out4 + o) * in_channels + i] = static_cast<float>(value);
+          for (std::size_t c = 0; c < 3; ++c) value += gg[a][c] * G[b][c];
+          u[((a * n + b) * out4 + o) * in_channels + i] = static_cast<float>(value);
         }
     }
   return u;
@@ -90,16 +114,17 @@ std::vector<float> WinogradConv3x3::transform_weights(std::span<const float> o4,
 
 std::uint32_t WinogradConv3x3::band_rows(const ActivationShape& in, std::uint32_t out_channels) const {
   const std::size_t row_bytes =
-      std::size_t(kPoints) * tiles_x(in) * std::max<std::size_t>(in.channels, round_up(out_channels, 4)) * sizeof(float);
+      std::size_t(points(tile_)) * tiles_x(in) * std::max<std::size_t>(in.channels, round_up(out_channels, 4)) * sizeof(float);
   return static_cast<std::uint32_t>(std::min<std::size_t>(tiles_y(in), max_band_bytes_ / row_bytes));
 }
 
 std::size_t WinogradConv3x3::transformed_input_bytes(const ActivationShape& in, std::uint32_t out_channels) const {
-  return std::size_t(kPoints) * band_rows(in, out_channels) * tiles_x(in) * in.channels * sizeof(float);
+  return std::size_t(points(tile_)) * band_rows(in, out_channels) * tiles_x(in) * in.channels * sizeof(float);
 }
 
 std::size_t WinogradConv3x3::products_bytes(const ActivationShape& in, std::uint32_t out_channels) const {
-  return std::size_t(kPoints) * band_rows(in, out_channels) * tiles_x(in) * round_up(out_channels, 4) * sizeof(float);
+  return std::size_t(points(tile_)) * band_rows(in, out_channels) * tiles_x(in) * round_up(out_channels, 4) *
+         sizeof(float);
 }
 
 bool WinogradConv3x3::supports(const ActivationShape& in, std::uint32_t out_channels) const {
@@ -126,6 +151,7 @@ void WinogradConv3x3::record(Sequence& seq, const Buffer& input, const Activatio
 
   const std::uint32_t columns = tiles_x(in), rows = tiles_y(in), rows_per_band = band_rows(in, out.channels);
   const std::uint32_t out4 = static_cast<std::uint32_t>(round_up(out.channels, 4));
+  const std::string prefix = fmt::format("{} winograd f{}3", label, side());  // "conv2a winograd f63 gemm"
   const Binding transformed_band(transformed, 0, input_bytes), products_band(products, 0, product_bytes);
   for (std::uint32_t first_row = 0; first_row < rows; first_row += rows_per_band) {
     const std::uint32_t band_tiles = std::min(rows_per_band, rows - first_row) * columns;
@@ -133,18 +159,18 @@ void WinogradConv3x3::record(Sequence& seq, const Buffer& input, const Activatio
     const Groups input_groups{groups_for(std::size_t(band_tiles) * (in.channels / 4), kGroup)};
     if (stem)
       seq.dispatch(stem_input_transform_, {input, stem->weights, stem->bias, transformed_band}, input_push,
-                   input_groups, label + " winograd input+stem");
+                   input_groups, prefix + " input+stem");
     else
-      seq.dispatch(input_transform_, {input, transformed_band}, input_push, input_groups, label + " winograd input");
+      seq.dispatch(input_transform_, {input, transformed_band}, input_push, input_groups, prefix + " input");
     const GemmShape shape{.m = band_tiles, .n = out4, .k = in.channels, .b_transposed = true,
-                          .batch = kPoints, .a_batch_stride = band_tiles * in.channels,
+                          .batch = points(tile_), .a_batch_stride = band_tiles * in.channels,
                           .b_batch_stride = out4 * in.channels, .c_batch_stride = band_tiles * out4};
-    gemm_.record(seq, transformed_band, weights, nullptr, products_band, shape, label + " winograd gemm");
+    gemm_.record(seq, transformed_band, weights, nullptr, products_band, shape, prefix + " gemm");
     seq.dispatch(max_pool ? output_pool_transform_ : output_transform_, {products_band, bias, output},
                  OutputPush{out.channels, in.height, in.width, columns, band_tiles, first_row, out.pad,
                             relu ? 1u : 0u},
                  {groups_for(std::size_t(band_tiles) * groups_for(out.channels, 4), kGroup)},
-                 label + " winograd output");
+                 prefix + " output");
   }
 }
 

@@ -1,9 +1,10 @@
 #pragma once
-// 3x3 convolution (stride 1, pad 1) + bias (+ ReLU) (+ 2x2 max-pool) by Winograd's F(4x4, 3x3): an input
-// transform, a batch of 36 GEMMs (one per transformed point: tiles x in_channels times in_channels x out_channels)
-// and an output transform (shaders/winograd_f43_*.comp, shaders/include/winograd_f43.glsl). 4x fewer
-// multiply-adds than the direct convolution, for two extra passes over memory. fp32 only: the transforms scale
-// values by up to 10 (input: B^T's largest absolute row sum) and 19 (output: A^T's) per dimension, more than
+// 3x3 convolution (stride 1, pad 1) + bias (+ ReLU) (+ 2x2 max-pool) by Winograd's F(m x m, 3x3), m = 4 or 6: an
+// input transform, a batch of (m + 2)^2 GEMMs (one per transformed point: tiles x in_channels times in_channels x
+// out_channels) and an output transform (shaders/winograd_f43_*.comp, winograd_f63_*.comp and their headers
+// shaders/include/winograd_*.glsl). F(4x4, 3x3) does 4x fewer multiply-adds than the direct convolution, F(6x6,
+// 3x3) 5.1x, for two extra passes over memory. fp32 only: F(4x4, 3x3)'s transforms scale values by up to 10 (input:
+// B^T's largest absolute row sum) and 19 (output: A^T's) per dimension, F(6x6, 3x3)'s by 12.5 and 67, more than
 // 16-bit storage's 11 bits can carry within the golden tolerances.
 #include <cstdint>
 #include <span>
@@ -18,8 +19,10 @@ namespace vkvo::rt {
 
 class WinogradConv3x3 {
  public:
-  static constexpr std::uint32_t kTile = 4;     // output pixels per tile side
-  static constexpr std::uint32_t kPoints = 36;  // transformed values per tile (6 x 6): the GEMM batch
+  // Output pixels per tile side: F(4x4, 3x3) or F(6x6, 3x3).
+  enum class Tile : std::uint32_t { f43 = 4, f63 = 6 };
+  // Transformed values per tile ((m + 2)^2): the GEMM batch.
+  static constexpr std::uint32_t points(Tile tile) { return (std::uint32_t(tile) + 2) * (std::uint32_t(tile) + 2); }
 
   // Scratch bytes per band by default: within lavapipe's 128 MiB storage-buffer range and a few times a desktop
   // CPU's last-level cache. SuperPoint 640x480 measured the same at 32 MiB and 120 MiB bands within this
@@ -28,18 +31,21 @@ class WinogradConv3x3 {
 
   // Throws std::invalid_argument unless `precision` is fp32 and the device reads the tiled kernels' texel formats.
   // `max_band_bytes` is capped by the device's storage-buffer range and texel count.
-  WinogradConv3x3(const Context& context, Precision precision, std::size_t max_band_bytes = kDefaultBandBytes);
+  WinogradConv3x3(const Context& context, Precision precision, Tile tile,
+                  std::size_t max_band_bytes = kDefaultBandBytes);
 
-  // o4-layout 3x3 weights (runtime/tensor_layout.hpp) -> the GEMMs' B^T operands, U = G g G^T:
-  // [36][round_up(out_channels, 4)][in_channels] floats, padded output channels zero.
+  Tile tile() const { return tile_; }
+
+  // o4-layout 3x3 weights (runtime/tensor_layout.hpp) -> the GEMMs' B^T operands for `tile`, U = G g G^T:
+  // [points(tile)][round_up(out_channels, 4)][in_channels] floats, padded output channels zero.
   static std::vector<float> transform_weights(std::span<const float> o4, std::uint32_t out_channels,
-                                              std::uint32_t in_channels);
+                                              std::uint32_t in_channels, Tile tile);
 
-  // Tiles cover the image in rows of ceil(width / 4); a convolution runs in bands of whole tile rows, so that
+  // Tiles cover the image in rows of ceil(width / m); a convolution runs in bands of whole tile rows, so that
   // each band's scratch fits the device's storage-buffer range and texel count, and the band written by the input
   // transform is still in cache when its GEMMs read it.
-  static std::uint32_t tiles_x(const ActivationShape& in) { return (in.width + kTile - 1) / kTile; }
-  static std::uint32_t tiles_y(const ActivationShape& in) { return (in.height + kTile - 1) / kTile; }
+  std::uint32_t tiles_x(const ActivationShape& in) const { return (in.width + side() - 1) / side(); }
+  std::uint32_t tiles_y(const ActivationShape& in) const { return (in.height + side() - 1) / side(); }
   // Tile rows per band (0: not even one row fits).
   std::uint32_t band_rows(const ActivationShape& in, std::uint32_t out_channels) const;
   // Bytes of the scratch buffers a convolution of `in` to `out_channels` needs (one band): transformed input and
@@ -68,6 +74,9 @@ class WinogradConv3x3 {
               const Stem* stem = nullptr) const;
 
  private:
+  std::uint32_t side() const { return static_cast<std::uint32_t>(tile_); }
+
+  Tile tile_;
   Kernel input_transform_, stem_input_transform_, output_transform_, output_pool_transform_;
   Gemm gemm_;
   std::size_t max_texel_elements_;

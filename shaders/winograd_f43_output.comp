@@ -1,3 +1,4 @@
 #version 450
-// Winograd F(4x4, 3x3) output transform + bias (+ ReLU): winograd_f43_output_body.glsl.
-#include "winograd_f43_output_body.glsl"
+// Winograd F(4x4, 3x3) output transform + bias (+ ReLU): winograd_output_body.glsl.
+#define WINOGRAD_TILE 4
+#include "winograd_output_body.glsl"

@@ -2,7 +2,7 @@
 // 2016): a 4 x 4 output tile of a 3x3 convolution is Y = A^T [U . (B^T d B)] A, with d the 6 x 6 input tile, U =
 // G g G^T the transformed filter (computed on the host: runtime/winograd.cpp) and "." the element-wise product
 // summed over input channels, which is a batch of 36 GEMMs. 36 multiplies per tile and channel pair instead of
-// 144. The 1-D transforms below act on vec4s: 4 channels at once.
+// 144. The 1-D transforms below act on vec4s: 4 channels at once; winograd_f63.glsl has the same interface.
 #ifndef VKVO_WINOGRAD_F43_GLSL
 #define VKVO_WINOGRAD_F43_GLSL
 
@@ -10,28 +10,9 @@ const uint kWinogradTile = 4;    // output pixels per tile side
 const uint kWinogradInput = 6;   // input pixels per tile side (tile + 2)
 const uint kWinogradPoints = 36; // transformed values per tile: the GEMM batch
 
-// The tile and the block of 4 channels an invocation of a transform takes: consecutive invocations take consecutive
-// channel blocks of one tile (neighbouring lanes then read or write neighbouring addresses). Tiles are numbered
-// row by row within a band of tile rows starting at first_tile_row.
-struct WinogradTileBlock {
-  uint tile;   // in the band
-  uint block;  // channels 4 block .. 4 block + 3
-  uint ty, tx;
-};
-
-WinogradTileBlock winograd_tile_block(uint invocation, uint blocks, uint tiles_x, uint first_tile_row) {
-  WinogradTileBlock t;
-  t.tile = invocation / blocks;
-  t.block = invocation - t.tile * blocks;
-  const uint band_row = t.tile / tiles_x;
-  t.tx = t.tile - band_row * tiles_x;
-  t.ty = first_tile_row + band_row;
-  return t;
-}
-
 // B^T d for one column (or row) of 6 input values. B^T rows: [4 0 -5 0 1 0], [0 -4 -4 1 1 0], [0 4 -4 -1 1 0],
 // [0 -2 -1 2 1 0], [0 2 -1 -2 1 0], [0 4 0 -5 0 1].
-vec4[6] winograd_f43_input_1d(const vec4 d[6]) {
+vec4[6] winograd_input_1d(const vec4 d[6]) {
   return vec4[6](4.0 * d[0] - 5.0 * d[2] + d[4],
                  d[3] + d[4] - 4.0 * (d[1] + d[2]),
                  d[4] - d[3] + 4.0 * (d[1] - d[2]),
@@ -42,7 +23,7 @@ vec4[6] winograd_f43_input_1d(const vec4 d[6]) {
 
 // A^T m for one column (or row) of 6 transformed-domain values. A^T rows: [1 1 1 1 1 0], [0 1 -1 2 -2 0],
 // [0 1 1 4 4 0], [0 1 -1 8 -8 1].
-vec4[4] winograd_f43_output_1d(const vec4 m[6]) {
+vec4[4] winograd_output_1d(const vec4 m[6]) {
   const vec4 sum12 = m[1] + m[2], diff12 = m[1] - m[2];
   const vec4 sum34 = m[3] + m[4], diff34 = m[3] - m[4];
   return vec4[4](m[0] + sum12 + sum34, diff12 + 2.0 * diff34, sum12 + 4.0 * sum34, diff12 + 8.0 * diff34 + m[5]);

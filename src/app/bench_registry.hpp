@@ -13,6 +13,7 @@ struct BenchOptions {
   std::vector<rt::Precision> precisions;  // supported by the device; never empty
   std::string model;                      // --model PACK where the bench needs weights
   std::string winograd = "auto";          // --winograd: SuperPoint's 3x3 convolutions (auto | on | off)
+  int winograd_tile = 0;                  // --winograd-tile: 4 or 6 (0: SuperPointParams' default)
   std::vector<std::size_t> keypoints{200, 400, 1000};  // --keypoints: SuperGlue's N = M
 };
 

@@ -84,6 +84,7 @@ int run(const rt::Context& context, const app::BenchOptions& options) {
     features::SuperPointParams params;
     params.precision = precision;
     params.winograd = *features::parse_winograd(options.winograd);
+    if (options.winograd_tile) params.winograd_tile = *features::winograd_tile_from_side(options.winograd_tile);
     features::SuperPoint sp(context, pack, params);
     for (const auto& [w, h] : {std::pair{640, 480}, std::pair{752, 480}}) bench_size(sp, w, h, options.repeat);
   }

@@ -21,6 +21,7 @@ struct Options {
   bool kernels = false;
   std::string filter;
   std::string winograd = "auto";
+  int winograd_tile = 0;
   std::vector<std::size_t> keypoints{200, 400, 1000};
   std::vector<std::string> networks;  // names of the --<network> flags given
 };
@@ -53,7 +54,7 @@ int run(const Options& options) {
       for (const auto& result : vkvo::app::bench_kernels(context, p, options.repeat, options.filter)) vkvo::app::print_bench_row(result);
   }
   const vkvo::app::BenchOptions bench_options{options.repeat, precisions, options.model, options.winograd,
-                                                   options.keypoints};
+                                              options.winograd_tile, options.keypoints};
   for (const auto& bench : vkvo::app::network_bench_registry())
     if (std::find(options.networks.begin(), options.networks.end(), bench.name) != options.networks.end())
       status |= bench.run(context, bench_options);
@@ -68,8 +69,11 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--device", options->device, "device index or name substring (default: $VKVO_DEVICE or best)");
        sub.add_option("--model", options->model, "model pack for the network benchmarks");
        sub.add_flag("--kernels", options->kernels, "the single-kernel table (default when no network is named)");
-       sub.add_option("--winograd", options->winograd, "SuperPoint's 3x3 convolutions by Winograd F(4x4,3x3)")
+       sub.add_option("--winograd", options->winograd, "SuperPoint's 3x3 convolutions by Winograd F(m x m, 3x3)")
            ->check(CLI::IsMember({"auto", "on", "off"}));
+       sub.add_option("--winograd-tile", options->winograd_tile,
+                      "SuperPoint's Winograd output tile: 4 (F(4x4,3x3)) or 6 (F(6x6,3x3); default)")
+           ->check(CLI::IsMember({4, 6}));
        sub.add_option("--keypoints", options->keypoints, "SuperGlue: keypoints per image, N = M (default: 200 400 1000)")
            ->check(CLI::Range(std::size_t{1}, std::size_t{2048}));
        sub.add_option("--filter", options->filter, "kernel table: only kernels whose name contains this (e.g. gemm)");

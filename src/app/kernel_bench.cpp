@@ -118,23 +118,25 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     results.push_back({kernel_name, name, ms, rt::Conv2d::flops(in, 64, 3) / (ms * 1e6), bytes / (ms * 1e6)});
   }
 
-  // Winograd F(4x4, 3x3) (what SuperPoint runs in fp32 on CPU devices) at the shapes of the rows above: transforms
-  // and GEMMs together; GFLOP/s counts the direct convolution's multiply-adds, so the rows compare as speed.
+  // Winograd F(4x4, 3x3) and F(6x6, 3x3) (what SuperPoint runs in fp32 on CPU devices) at the shapes of the rows
+  // above: transforms and GEMMs together; GFLOP/s counts the direct convolution's multiply-adds, so the rows compare
+  // as speed.
   struct WinogradCase {
     std::uint32_t in_c, out_c, h, w;
     bool max_pool;
   };
   for (const WinogradCase c : {WinogradCase{64, 64, 240, 376, false}, WinogradCase{64, 64, 480, 752, true},
-                               WinogradCase{128, 256, 60, 94, false}}) {
-    const auto kernel_name = fmt::format("conv3x3{} {}->{} @{}x{} winograd", c.max_pool ? "+maxpool" : "", c.in_c,
-                                         c.out_c, c.w, c.h);
+                               WinogradCase{128, 256, 60, 94, false}})
+  for (const auto tile : {rt::WinogradConv3x3::Tile::f43, rt::WinogradConv3x3::Tile::f63}) {
+    const auto kernel_name = fmt::format("conv3x3{} {}->{} @{}x{} winograd f{}3", c.max_pool ? "+maxpool" : "",
+                                         c.in_c, c.out_c, c.w, c.h, std::uint32_t(tile));
     if (precision != rt::Precision::fp32 || !rt::tiled_kernels_available(ctx, precision) || !wanted(kernel_name))
       continue;
-    const rt::WinogradConv3x3 op(ctx, precision);
+    const rt::WinogradConv3x3 op(ctx, precision, tile);
     const rt::ActivationShape in{c.in_c, c.h, c.w, 1};
     const rt::ActivationShape out{c.out_c, c.max_pool ? c.h / 2 : c.h, c.max_pool ? c.w / 2 : c.w, 1};
     rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision)), out_buf(ctx, rt::activation_bytes(out, precision));
-    rt::Buffer w_buf(ctx, std::size_t(rt::WinogradConv3x3::kPoints) * c.out_c * c.in_c * sizeof(float));
+    rt::Buffer w_buf(ctx, std::size_t(rt::WinogradConv3x3::points(op.tile())) * c.out_c * c.in_c * sizeof(float));
     rt::Buffer b_buf(ctx, c.out_c * sizeof(float));
     rt::Buffer transformed(ctx, op.transformed_input_bytes(in, c.out_c)), products(ctx, op.products_bytes(in, c.out_c));
     fill_random(in_buf, precision, 1);

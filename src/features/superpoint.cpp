@@ -16,6 +16,12 @@ std::optional<SuperPointParams::Winograd> parse_winograd(std::string_view text) 
   return std::nullopt;
 }
 
+std::optional<rt::WinogradConv3x3::Tile> winograd_tile_from_side(int side) {
+  if (side == 4) return rt::WinogradConv3x3::Tile::f43;
+  if (side == 6) return rt::WinogradConv3x3::Tile::f63;
+  return std::nullopt;
+}
+
 SuperPointParams load_superpoint_params(const YAML::Node& section) {
   SuperPointParams params;
   io::read_param(section, "keypoint_threshold", params.keypoint_threshold);
@@ -36,6 +42,10 @@ SuperPointParams load_superpoint_params(const YAML::Node& section) {
   io::read_param(section, "winograd", winograd);
   if (const auto choice = parse_winograd(winograd)) params.winograd = *choice;
   else throw std::runtime_error(fmt::format("config key 'winograd': expected auto, on or off, got '{}'", winograd));
+  int tile_side = static_cast<int>(params.winograd_tile);
+  io::read_param(section, "winograd_tile", tile_side);
+  if (const auto tile = winograd_tile_from_side(tile_side)) params.winograd_tile = *tile;
+  else throw std::runtime_error(fmt::format("config key 'winograd_tile': expected 4 or 6, got {}", tile_side));
   if (params.keypoint_threshold < 0.0f)
     throw std::runtime_error("config key 'keypoint_threshold': must be >= 0");
   if (params.nms_radius < 0) throw std::runtime_error("config key 'nms_radius': must be >= 0");
@@ -51,7 +61,8 @@ SuperPoint::SuperPoint(const rt::Context& context, const io::ModelPack& pack, co
     throw std::invalid_argument("SuperPoint: keypoint_threshold and nms_radius must be >= 0");
   if (pack.has("detector_channels") && pack.integer("detector_channels") != 65)
     throw std::runtime_error(fmt::format("model pack '{}': detector_channels must be 65", pack.source()));
-  network_ = std::make_unique<SuperPointNetwork>(context, pack, precision_, params.tiled_kernels, params.winograd);
+  network_ = std::make_unique<SuperPointNetwork>(context, pack, precision_, params.tiled_kernels, params.winograd,
+                                                  params.winograd_tile);
   descriptor_dim_ = static_cast<int>(network_->convs[convDb].out_channels);
 }
 

@@ -19,6 +19,7 @@
 #include "io/model_pack.hpp"
 #include "runtime/context.hpp"
 #include "runtime/sequence.hpp"
+#include "runtime/winograd.hpp"
 
 namespace vkvo::features {
 
@@ -31,18 +32,22 @@ struct SuperPointParams {
   // The texel-buffer ("tiled") kernels where the device reads their formats; false runs the storage-buffer
   // kernels every device has (the fallback; tests run the network both ways).
   bool tiled_kernels = true;
-  // Winograd F(4x4, 3x3) (runtime/winograd.hpp) for the 3x3 layers with a multiple of 4 input channels (all but
+  // Winograd F(m x m, 3x3) (runtime/winograd.hpp) for the 3x3 layers with a multiple of 4 input channels (all but
   // conv1a, which then runs inside conv1b's input transform): `automatic` where it measured faster, fp32 on CPU
   // devices; `on` wherever the precision is fp32 and the tiled kernels run; `off` never.
   enum class Winograd { automatic, on, off } winograd = Winograd::automatic;
+  // Its output tile side m: F(6x6, 3x3) does 21 % fewer multiply-adds and memory passes than F(4x4, 3x3).
+  rt::WinogradConv3x3::Tile winograd_tile = rt::WinogradConv3x3::Tile::f63;
 };
 
 // YAML section `point_detector`: keypoint_threshold, nms_radius, remove_borders, max_keypoints,
-// precision (auto | fp32 | fp16s | fp16), winograd (auto | on | off). Missing keys keep the defaults; wrong types
-// throw naming the key.
+// precision (auto | fp32 | fp16s | fp16), winograd (auto | on | off), winograd_tile (4 | 6). Missing keys keep the
+// defaults; wrong types and values throw naming the key.
 SuperPointParams load_superpoint_params(const YAML::Node& section);
 // "auto", "on", "off"; nullopt for anything else.
 std::optional<SuperPointParams::Winograd> parse_winograd(std::string_view text);
+// 4 or 6 (the output tile side); nullopt for anything else.
+std::optional<rt::WinogradConv3x3::Tile> winograd_tile_from_side(int side);
 
 // The network's dense outputs, before NMS (the layout of /work/shared/golden/superpoint/*).
 struct SuperPointDense {

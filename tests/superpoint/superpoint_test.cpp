@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
@@ -76,19 +77,22 @@ class SuperPointRandom : public ::testing::TestWithParam<rt::Precision> {
   void SetUp() override {
     if (!gpu().caps().supports(GetParam())) GTEST_SKIP() << gpu().caps().name << " lacks " << rt::to_string(GetParam());
   }
-  void check_dense_outputs(bool tiled_kernels, SuperPointParams::Winograd winograd, int width = 53, int height = 42);
+  void check_dense_outputs(bool tiled_kernels, SuperPointParams::Winograd winograd, int width = 53, int height = 42,
+                           rt::WinogradConv3x3::Tile tile = SuperPointParams{}.winograd_tile);
 };
 
 // Dense outputs of the whole network against the C++ reference, at a size that is not a multiple of 8, with the
-// texel-buffer kernels (the default where the device reads them) with and (fp32) without Winograd convolutions,
-// and with the storage-buffer fallback. 30 cells: the tiled detector head's last invocation (4 cells each) is
-// partial; every layer's width leaves a partial 4 x 4 Winograd tile; convDb's planes do not fill whole texels, so
-// it runs conv1x1_tiled. 40 cells fill them: convDb then runs as a GEMM on CPU devices.
+// texel-buffer kernels (the default where the device reads them) with and (fp32) without Winograd convolutions
+// (both tile sizes), and with the storage-buffer fallback. 30 cells: the tiled detector head's last invocation (4
+// cells each) is partial; every layer leaves partial 4 x 4 and 6 x 6 Winograd tiles; convDb's planes do not fill
+// whole texels, so it runs conv1x1_tiled. 40 cells fill them: convDb then runs as a GEMM on CPU devices.
 TEST_P(SuperPointRandom, DenseOutputsMatchReference) {
   using Winograd = SuperPointParams::Winograd;
   if (GetParam() == rt::Precision::fp32) {
-    SCOPED_TRACE("tiled kernels, Winograd 3x3 convolutions");
-    check_dense_outputs(true, Winograd::on);
+    for (const auto tile : {rt::WinogradConv3x3::Tile::f43, rt::WinogradConv3x3::Tile::f63}) {
+      SCOPED_TRACE(fmt::format("tiled kernels, Winograd F({0}x{0}, 3x3) convolutions", std::uint32_t(tile)));
+      check_dense_outputs(true, Winograd::on, 53, 42, tile);
+    }
   }
   for (const bool tiled : {true, false}) {
     SCOPED_TRACE(tiled ? "tiled kernels" : "storage-buffer kernels");
@@ -99,12 +103,13 @@ TEST_P(SuperPointRandom, DenseOutputsMatchReference) {
 }
 
 void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams::Winograd winograd, int width,
-                                           int height) {
+                                           int height, rt::WinogradConv3x3::Tile tile) {
   const auto pack = random_pack(7);
   SuperPointParams params;
   params.precision = GetParam();
   params.tiled_kernels = tiled_kernels;
   params.winograd = winograd;
+  params.winograd_tile = tile;
   SuperPoint sp(gpu(), pack, params);
   sp.set_profiling(true);  // the labels of the timed commands say which path ran
   const cv::Mat image = random_image(width, height, 3);  // 53 x 42 -> 6 x 5 cells, dense 48 x 40
@@ -122,6 +127,12 @@ void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams:
                                    (winograd == SuperPointParams::Winograd::on ||
                                     (winograd == SuperPointParams::Winograd::automatic && cpu));
     EXPECT_EQ(ran_winograd, winograd_expected);
+    if (winograd_expected) {
+      const std::string tile_label = fmt::format("winograd f{}3", std::uint32_t(tile));
+      EXPECT_TRUE(std::any_of(timings.begin(), timings.end(), [&](const rt::CommandTiming& t) {
+        return t.label.find(tile_label) != std::string::npos;
+      })) << "no command labelled '" << tile_label << "'";
+    }
     const bool ran_gemm = std::any_of(timings.begin(), timings.end(), [](const rt::CommandTiming& t) {
       return t.label == "convDb gemm";
     });
@@ -206,7 +217,7 @@ TEST(SuperPointReference, NmsRecoversSecondaryMaxima) {
 TEST(SuperPointParamsTest, LoadsYamlSection) {
   const auto config = io::Config::from_string(
       "point_detector:\n  keypoint_threshold: 0.004\n  nms_radius: 3\n  remove_borders: 8\n  max_keypoints: 500\n"
-      "  precision: fp32\n  winograd: off\n");
+      "  precision: fp32\n  winograd: off\n  winograd_tile: 4\n");
   const SuperPointParams p = load_superpoint_params(config.section("point_detector"));
   EXPECT_FLOAT_EQ(p.keypoint_threshold, 0.004f);
   EXPECT_EQ(p.nms_radius, 3);
@@ -215,6 +226,7 @@ TEST(SuperPointParamsTest, LoadsYamlSection) {
   ASSERT_TRUE(p.precision.has_value());
   EXPECT_EQ(*p.precision, rt::Precision::fp32);
   EXPECT_EQ(p.winograd, SuperPointParams::Winograd::off);
+  EXPECT_EQ(p.winograd_tile, rt::WinogradConv3x3::Tile::f43);
 
   const SuperPointParams defaults = load_superpoint_params(YAML::Node());
   EXPECT_FLOAT_EQ(defaults.keypoint_threshold, 0.005f);
@@ -223,12 +235,15 @@ TEST(SuperPointParamsTest, LoadsYamlSection) {
   EXPECT_EQ(defaults.max_keypoints, 400);
   EXPECT_FALSE(defaults.precision.has_value());
   EXPECT_EQ(defaults.winograd, SuperPointParams::Winograd::automatic);
+  EXPECT_EQ(defaults.winograd_tile, rt::WinogradConv3x3::Tile::f63);
 
   EXPECT_THROW(load_superpoint_params(io::Config::from_string("p:\n  nms_radius: abc\n").section("p")),
                std::runtime_error);
   EXPECT_THROW(load_superpoint_params(io::Config::from_string("p:\n  precision: fp8\n").section("p")),
                std::runtime_error);
   EXPECT_THROW(load_superpoint_params(io::Config::from_string("p:\n  winograd: yes\n").section("p")),
+               std::runtime_error);
+  EXPECT_THROW(load_superpoint_params(io::Config::from_string("p:\n  winograd_tile: 5\n").section("p")),
                std::runtime_error);
 }
 

@@ -92,7 +92,8 @@ NmsKernels::NmsKernels(const rt::Context& ctx, rt::Precision p, bool texel)
              colmax_kernel(ctx, p, texel, 3)} {}
 
 SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack& pack, rt::Precision p, bool tiled,
-                                     SuperPointParams::Winograd winograd_choice)
+                                     SuperPointParams::Winograd winograd_choice,
+                                     rt::WinogradConv3x3::Tile winograd_tile)
     : precision(p),
       block(ctx, std::max<std::size_t>(pack.data_block().size(), 16), rt::BufferKind::device, "superpoint.weights"),
       conv3x3(ctx, p, 3, tiled ? rt::Conv3x3Kernel::automatic : rt::Conv3x3Kernel::direct),
@@ -139,12 +140,12 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
   const bool wanted = winograd_choice == SuperPointParams::Winograd::on ||
                       (winograd_choice == SuperPointParams::Winograd::automatic && ctx.caps().type == "cpu");
   if (!wanted || p != rt::Precision::fp32 || !tiled || !rt::tiled_kernels_available(ctx, p)) return;
-  winograd.emplace(ctx, p);
+  winograd.emplace(ctx, p, winograd_tile);
   for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
     const SuperPointConv& c = convs[i];
     if (c.kernel != 3 || c.in_channels % 4 != 0) continue;
     const auto u = rt::WinogradConv3x3::transform_weights(pack.floats(c.name + ".weight", io::DType::fp32),
-                                                          c.out_channels, c.in_channels);
+                                                          c.out_channels, c.in_channels, winograd_tile);
     winograd_filters.add(static_cast<SuperPointLayer>(i), std::as_bytes(std::span<const float>(u)));
   }
   winograd_filters.upload(ctx, "superpoint.winograd_weights");

@@ -54,7 +54,7 @@ class DerivedLayerTensors {
 struct SuperPointNetwork {
   // `tiled`: use the texel-buffer kernels where the device reads their formats (SuperPointParams::tiled_kernels).
   SuperPointNetwork(const rt::Context& context, const io::ModelPack& pack, rt::Precision precision, bool tiled,
-                    SuperPointParams::Winograd winograd);
+                    SuperPointParams::Winograd winograd, rt::WinogradConv3x3::Tile winograd_tile);
 
   rt::Binding weights(SuperPointLayer layer) const;
   rt::Binding bias(SuperPointLayer layer) const;
