@@ -1,4 +1,5 @@
 // `vkvo eval`: compares an estimated trajectory with ground truth (ATE, RPE, drift), optional plot and JSON.
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -30,32 +31,34 @@ struct EvalCommandOptions {
   std::size_t rpe_step = 1;
 };
 
-vkvo::io::PoseFrame parse_frame(const std::string& name) {
-  if (name == "auto") return vkvo::io::PoseFrame::automatic;
-  if (name == "body") return vkvo::io::PoseFrame::body;
-  if (name == "camera") return vkvo::io::PoseFrame::camera;
-  throw std::runtime_error(fmt::format("--gt-frame: unknown frame '{}' (auto, body or camera)", name));
-}
+// The command line's names of the ground-truth choices. CLI11 checks the option against the names (its message
+// names the option, the value and the choices), so the lookups in run_eval always find them.
+const std::map<std::string, vkvo::io::PoseFrame> kFrameNames{
+    {"auto", vkvo::io::PoseFrame::automatic}, {"body", vkvo::io::PoseFrame::body},
+    {"camera", vkvo::io::PoseFrame::camera}};
+const std::map<std::string, vkvo::io::GroundTruthOrientation> kOrientationNames{
+    {"auto", vkvo::io::GroundTruthOrientation::automatic},
+    {"as-written", vkvo::io::GroundTruthOrientation::as_written},
+    {"inverse", vkvo::io::GroundTruthOrientation::inverse},
+    {"none", vkvo::io::GroundTruthOrientation::none}};
 
-vkvo::io::GroundTruthOrientation parse_orientation(const std::string& name) {
-  using O = vkvo::io::GroundTruthOrientation;
-  if (name == "auto") return O::automatic;
-  if (name == "as-written") return O::as_written;
-  if (name == "inverse") return O::inverse;
-  if (name == "none") return O::none;
-  throw std::runtime_error(fmt::format("--gt-orientation: unknown '{}' (auto, as-written, inverse or none)", name));
+template <typename Choice>
+std::vector<std::string> names_of(const std::map<std::string, Choice>& names) {
+  std::vector<std::string> keys;
+  for (const auto& entry : names) keys.push_back(entry.first);
+  return keys;
 }
 
 int run_eval(const EvalCommandOptions& opts) {
   using namespace vkvo;
   io::GroundTruthOptions gt_options;
-  gt_options.frame = parse_frame(opts.gt_frame);
+  gt_options.frame = kFrameNames.at(opts.gt_frame);
   if (!opts.body_to_camera.empty()) {
     gt_options.sensor_yaml = opts.body_to_camera;
     if (gt_options.frame == io::PoseFrame::automatic) gt_options.frame = io::PoseFrame::body;
   }
   if (!opts.kitti_times.empty()) gt_options.kitti_times = opts.kitti_times;
-  gt_options.orientation = parse_orientation(opts.gt_orientation);
+  gt_options.orientation = kOrientationNames.at(opts.gt_orientation);
   const io::GroundTruth gt = io::read_groundtruth(opts.groundtruth, gt_options);
 
   std::vector<double> estimate_times;  // a KITTI-format estimate shares the ground truth's clock
@@ -116,7 +119,7 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--json", opts->json, "write the report as JSON");
        sub.add_option("--gt-frame", opts->gt_frame,
                       "frame of the ground-truth poses: auto (17-column EuRoC CSV = body), body or camera")
-           ->check(CLI::IsMember({"auto", "body", "camera"}))
+           ->check(CLI::IsMember(names_of(kFrameNames)))
            ->capture_default_str();
        sub.add_option("--body-to-camera", opts->body_to_camera,
                       "cam0 sensor.yaml whose T_BS converts body ground truth to the camera (default: "
@@ -125,7 +128,7 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--gt-orientation", opts->gt_orientation,
                       "ground-truth rotations: auto (as written; inverted for ORB-SLAM3's EuRoC_left_cam files, "
                       "which give world-to-camera rotations), as-written, inverse, none (positions only)")
-           ->check(CLI::IsMember({"auto", "as-written", "inverse", "none"}))
+           ->check(CLI::IsMember(names_of(kOrientationNames)))
            ->capture_default_str();
        sub.add_option("--kitti-times", opts->kitti_times, "KITTI times.txt for poses files (default: found or 10 Hz)")
            ->check(CLI::ExistingFile);
