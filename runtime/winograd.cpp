@@ -98,7 +98,7 @@ std::vector<float> WinogradConv3x3::transform_weights(std::span<const float> o4,
       const auto g = [&](std::size_t r, std::size_t c) {
         return double(o4[(((o / 4) * in_channels + i) * 9 + r * 3 + c) * 4 + o % 4]);
       };
-      double gg[8][3] = {};  // G g
+      double gg[kG63.size()][3] = {};  // G g (the first n rows)
       for (std::size_t a = 0; a < n; ++a)
         for (std::size_t c = 0; c < 3; ++c)
           for (std::size_t r = 0; r < 3; ++r) gg[a][c] += G[a][r] * g(r, c);
@@ -113,8 +113,8 @@ std::vector<float> WinogradConv3x3::transform_weights(std::span<const float> o4,
 }
 
 std::uint32_t WinogradConv3x3::band_rows(const ActivationShape& in, std::uint32_t out_channels) const {
-  const std::size_t row_bytes =
-      std::size_t(points(tile_)) * tiles_x(in) * std::max<std::size_t>(in.channels, round_up(out_channels, 4)) * sizeof(float);
+  const std::size_t row_bytes = std::size_t(points(tile_)) * tiles_x(in) *
+                                std::max<std::size_t>(in.channels, round_up(out_channels, 4)) * sizeof(float);
   return static_cast<std::uint32_t>(std::min<std::size_t>(tiles_y(in), max_band_bytes_ / row_bytes));
 }
 

@@ -126,29 +126,30 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     bool max_pool;
   };
   for (const WinogradCase c : {WinogradCase{64, 64, 240, 376, false}, WinogradCase{64, 64, 480, 752, true},
-                               WinogradCase{128, 256, 60, 94, false}})
-  for (const auto tile : {rt::WinogradConv3x3::Tile::f43, rt::WinogradConv3x3::Tile::f63}) {
-    const auto kernel_name = fmt::format("conv3x3{} {}->{} @{}x{} winograd f{}3", c.max_pool ? "+maxpool" : "",
-                                         c.in_c, c.out_c, c.w, c.h, std::uint32_t(tile));
-    if (precision != rt::Precision::fp32 || !rt::tiled_kernels_available(ctx, precision) || !wanted(kernel_name))
-      continue;
-    const rt::WinogradConv3x3 op(ctx, precision, tile);
-    const rt::ActivationShape in{c.in_c, c.h, c.w, 1};
-    const rt::ActivationShape out{c.out_c, c.max_pool ? c.h / 2 : c.h, c.max_pool ? c.w / 2 : c.w, 1};
-    rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision)), out_buf(ctx, rt::activation_bytes(out, precision));
-    rt::Buffer w_buf(ctx, std::size_t(rt::WinogradConv3x3::points(op.tile())) * c.out_c * c.in_c * sizeof(float));
-    rt::Buffer b_buf(ctx, c.out_c * sizeof(float));
-    rt::Buffer transformed(ctx, op.transformed_input_bytes(in, c.out_c)), products(ctx, op.products_bytes(in, c.out_c));
-    fill_random(in_buf, precision, 1);
-    fill_random(w_buf, precision, 2);
-    b_buf.fill_zero();
-    rt::Sequence seq(ctx);
-    seq.begin();
-    op.record(seq, in_buf, in, w_buf, b_buf, transformed, products, out_buf, out, true, c.max_pool, "conv");
-    seq.end();
-    const double ms = time_sequence(seq, repeat, timestamps);
-    const double bytes = (double(in.elements()) + double(out.elements())) * elem;
-    results.push_back({kernel_name, name, ms, rt::Conv2d::flops(in, c.out_c, 3) / (ms * 1e6), bytes / (ms * 1e6)});
+                               WinogradCase{128, 256, 60, 94, false}}) {
+    for (const auto tile : {rt::WinogradConv3x3::Tile::f43, rt::WinogradConv3x3::Tile::f63}) {
+      const auto kernel_name = fmt::format("conv3x3{} {}->{} @{}x{} winograd f{}3", c.max_pool ? "+maxpool" : "",
+                                           c.in_c, c.out_c, c.w, c.h, std::uint32_t(tile));
+      if (precision != rt::Precision::fp32 || !rt::tiled_kernels_available(ctx, precision) || !wanted(kernel_name))
+        continue;
+      const rt::WinogradConv3x3 op(ctx, precision, tile);
+      const rt::ActivationShape in{c.in_c, c.h, c.w, 1};
+      const rt::ActivationShape out{c.out_c, c.max_pool ? c.h / 2 : c.h, c.max_pool ? c.w / 2 : c.w, 1};
+      rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision)), out_buf(ctx, rt::activation_bytes(out, precision));
+      rt::Buffer w_buf(ctx, std::size_t(rt::WinogradConv3x3::points(op.tile())) * c.out_c * c.in_c * sizeof(float));
+      rt::Buffer b_buf(ctx, c.out_c * sizeof(float));
+      rt::Buffer transformed(ctx, op.transformed_input_bytes(in, c.out_c)), products(ctx, op.products_bytes(in, c.out_c));
+      fill_random(in_buf, precision, 1);
+      fill_random(w_buf, precision, 2);
+      b_buf.fill_zero();
+      rt::Sequence seq(ctx);
+      seq.begin();
+      op.record(seq, in_buf, in, w_buf, b_buf, transformed, products, out_buf, out, true, c.max_pool, "conv");
+      seq.end();
+      const double ms = time_sequence(seq, repeat, timestamps);
+      const double bytes = (double(in.elements()) + double(out.elements())) * elem;
+      results.push_back({kernel_name, name, ms, rt::Conv2d::flops(in, c.out_c, 3) / (ms * 1e6), bytes / (ms * 1e6)});
+    }
   }
 
   if (const std::string kernel_name = "maxpool2x2 64ch @752x480"; wanted(kernel_name)) {  // SuperPoint's first pool
@@ -194,11 +195,11 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
 }
 
 void print_bench_header() {
-  fmt::print("{:<34} {:<6} {:>10} {:>10} {:>9}\n", "kernel", "prec", "median ms", "GFLOP/s", "GB/s");
+  fmt::print("{:<46} {:<6} {:>10} {:>10} {:>9}\n", "kernel", "prec", "median ms", "GFLOP/s", "GB/s");
 }
 
 void print_bench_row(const BenchResult& r) {
-  fmt::print("{:<34} {:<6} {:>10.3f} {:>10.1f} {:>9.2f}\n", r.name, r.precision, r.median_ms, r.gflops, r.gbytes);
+  fmt::print("{:<46} {:<6} {:>10.3f} {:>10.1f} {:>9.2f}\n", r.name, r.precision, r.median_ms, r.gflops, r.gbytes);
 }
 
 }  // namespace vkvo::app
