@@ -36,7 +36,8 @@ struct SuperPointParams {
   // conv1a, which then runs inside conv1b's input transform): `automatic` where it measured faster, fp32 on CPU
   // devices; `on` wherever the precision is fp32 and the tiled kernels run; `off` never.
   enum class Winograd { automatic, on, off } winograd = Winograd::automatic;
-  // Its output tile side m: F(6x6, 3x3) does 21 % fewer multiply-adds and memory passes than F(4x4, 3x3).
+  // Its output tile side m: F(6x6, 3x3) does 21 % fewer GEMM multiply-adds and stores 21 % fewer transformed values
+  // than F(4x4, 3x3) (4-16 % faster on lavapipe; README, Performance).
   rt::WinogradConv3x3::Tile winograd_tile = rt::WinogradConv3x3::Tile::f63;
 };
 
