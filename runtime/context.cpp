@@ -94,6 +94,7 @@ DeviceCaps query_caps(const vk::raii::PhysicalDevice& device, std::uint32_t inde
 
   auto features = device.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDevice16BitStorageFeatures>();
   caps.storage_16bit = features.get<vk::PhysicalDevice16BitStorageFeatures>().storageBuffer16BitAccess;
+  caps.int64 = features.get<vk::PhysicalDeviceFeatures2>().features.shaderInt64;
   if (has_f16i8) {
     auto f = device.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceShaderFloat16Int8Features>();
     caps.float16_arithmetic = f.get<vk::PhysicalDeviceShaderFloat16Int8Features>().shaderFloat16;
@@ -284,6 +285,7 @@ Context::Context(const ContextOptions& options)
   const std::uint32_t chosen = choose_device(devices, selector);
   caps_ = devices[chosen];
   if (!options.use_16bit) caps_.storage_16bit = caps_.float16_arithmetic = false;
+  if (!options.use_int64) caps_.int64 = false;
   physical_device_ = std::move(vk::raii::PhysicalDevices(instance_)[chosen]);
   if (caps_.api_version < VK_API_VERSION_1_1)
     throw VulkanError(fmt::format("device '{}' supports only Vulkan {}.{}; vkvo needs 1.1", caps_.name,
@@ -292,7 +294,8 @@ Context::Context(const ContextOptions& options)
   if (!family) throw VulkanError(fmt::format("device '{}' has no compute queue", caps_.name));
   queue_family_ = *family;
 
-  // Enable exactly the 16/8-bit features the device has; shaders for unsupported precisions are never created.
+  // Enable exactly the 16/8-bit and 64-bit features the device has; shaders for unsupported precisions are never
+  // created, nor those with 64-bit types (WinogradConv3x3's wide transforms) without shaderInt64.
   std::vector<const char*> extensions;
   const bool api12 = caps_.api_version >= VK_API_VERSION_1_2;
   if (!api12 && caps_.float16_arithmetic) extensions.push_back(VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME);
@@ -305,7 +308,7 @@ Context::Context(const ContextOptions& options)
       .pNext = (caps_.float16_arithmetic || caps_.int8_arithmetic) ? static_cast<void*>(&f16i8)
                                                                   : (caps_.storage_8bit ? &storage8 : nullptr),
       .storageBuffer16BitAccess = caps_.storage_16bit};
-  vk::PhysicalDeviceFeatures2 features2{.pNext = &storage16};
+  vk::PhysicalDeviceFeatures2 features2{.pNext = &storage16, .features = {.shaderInt64 = caps_.int64}};
   const float priority = 1.0f;
   const vk::DeviceQueueCreateInfo queue_info{.queueFamilyIndex = queue_family_, .queueCount = 1,
                                              .pQueuePriorities = &priority};

@@ -40,6 +40,7 @@ struct DeviceCaps {
   bool int8_arithmetic = false;
   bool storage_16bit = false;
   bool storage_8bit = false;
+  bool int64 = false;  // shaderInt64: 64-bit integer types in shaders
   std::uint32_t subgroup_size = 0;
   bool subgroup_arithmetic = false;
   bool subgroup_ballot = false;  // subgroupBroadcast & co.
@@ -80,6 +81,10 @@ struct ContextOptions {
   // them: only fp32 runs, `auto` precision picks it and an explicit fp16 / fp16s is an error naming the device.
   // For a driver whose 16-bit paths misbehave, and to test what vkvo does on such a device.
   bool use_16bit = true;
+  // false: the device is created without shaderInt64, as on a device that lacks it (some mobile GPUs): the kernels
+  // that use 64-bit types for wider stores (WinogradConv3x3's wide input transforms) are not created and their
+  // 32-bit forms run instead. To test those forms on any device.
+  bool use_int64 = true;
 };
 
 // Lists every Vulkan device (throws VulkanError naming the cause when there is no loader, driver or device).

@@ -19,8 +19,9 @@ int list_all() {
     fmt::print("    type {}, Vulkan {}.{}.{}, vendor 0x{:04x} device 0x{:04x}\n", d.type, VK_VERSION_MAJOR(d.api_version),
                VK_VERSION_MINOR(d.api_version), VK_VERSION_PATCH(d.api_version), d.vendor_id, d.device_id);
     if (!d.driver.empty()) fmt::print("    driver {}\n", d.driver);
-    fmt::print("    fp16 arithmetic {}, 16-bit storage {}, 8-bit storage {}, int8 arithmetic {}\n",
-               yes_no(d.float16_arithmetic), yes_no(d.storage_16bit), yes_no(d.storage_8bit), yes_no(d.int8_arithmetic));
+    fmt::print("    fp16 arithmetic {}, 16-bit storage {}, 8-bit storage {}, int8 arithmetic {}, int64 {}\n",
+               yes_no(d.float16_arithmetic), yes_no(d.storage_16bit), yes_no(d.storage_8bit),
+               yes_no(d.int8_arithmetic), yes_no(d.int64));
     fmt::print("    subgroup size {} (arithmetic {}, broadcast {}), max workgroup {} invocations, shared memory {} KiB\n",
                d.subgroup_size, yes_no(d.subgroup_arithmetic), yes_no(d.subgroup_ballot && d.subgroup_compute), d.max_workgroup_invocations, d.max_shared_memory_bytes / 1024);
     fmt::print("    timestamps {} ({:.3f} ns/tick), unified memory {}, max storage buffer {} MiB\n", yes_no(d.timestamps),
