@@ -82,7 +82,14 @@ WinogradConv3x3::WinogradConv3x3(const Context& context, Precision precision, Ti
       gemm_(context, precision),
       max_texel_elements_(context.caps().max_texel_buffer_elements),
       max_band_bytes_(std::min<std::size_t>({max_band_bytes, context.caps().max_storage_buffer_range,
-                                              std::size_t(context.caps().max_texel_buffer_elements) * 16})) {}
+                                              std::size_t(context.caps().max_texel_buffer_elements) * 16})) {
+  if (context.caps().int64) {
+    wide_input_transform_.emplace(context,
+                                  transform_spec(shader(tile, "input_wide"), precision, 2, sizeof(InputPush)));
+    wide_stem_input_transform_.emplace(
+        context, transform_spec(shader(tile, "input_stem_wide"), precision, 4, sizeof(InputPush), 2));
+  }
+}
 
 std::vector<float> WinogradConv3x3::transform_weights(std::span<const float> o4, std::uint32_t out_channels,
                                                       std::uint32_t in_channels, Tile tile) {
@@ -127,6 +134,10 @@ std::size_t WinogradConv3x3::products_bytes(const ActivationShape& in, std::uint
          sizeof(float);
 }
 
+bool WinogradConv3x3::wide_input_transform(const ActivationShape& in) const {
+  return wide_input_transform_.has_value() && in.channels % 8 == 0;
+}
+
 bool WinogradConv3x3::supports(const ActivationShape& in, std::uint32_t out_channels) const {
   return in.pad == 1 && in.channels % 4 == 0 && in.channels > 0 && out_channels > 0 && in.height > 0 &&
          in.width > 0 && in.elements() / 4 <= max_texel_elements_ && band_rows(in, out_channels) > 0;
@@ -153,15 +164,18 @@ void WinogradConv3x3::record(Sequence& seq, const Buffer& input, const Activatio
   const std::uint32_t out4 = static_cast<std::uint32_t>(round_up(out.channels, 4));
   const std::string prefix = fmt::format("{} winograd f{}3", label, side());  // "conv2a winograd f63 gemm"
   const Binding transformed_band(transformed, 0, input_bytes), products_band(products, 0, product_bytes);
+  const bool wide = wide_input_transform(in);
   for (std::uint32_t first_row = 0; first_row < rows; first_row += rows_per_band) {
     const std::uint32_t band_tiles = std::min(rows_per_band, rows - first_row) * columns;
     const InputPush input_push{in.channels, in.height, in.width, columns, band_tiles, first_row};
-    const Groups input_groups{groups_for(std::size_t(band_tiles) * (in.channels / 4), kGroup)};
+    const Groups input_groups{groups_for(std::size_t(band_tiles) * (in.channels / (wide ? 8 : 4)), kGroup)};
     if (stem)
-      seq.dispatch(stem_input_transform_, {input, stem->weights, stem->bias, transformed_band}, input_push,
-                   input_groups, prefix + " input+stem");
+      seq.dispatch(wide ? *wide_stem_input_transform_ : stem_input_transform_,
+                   {input, stem->weights, stem->bias, transformed_band}, input_push, input_groups,
+                   prefix + " input+stem");
     else
-      seq.dispatch(input_transform_, {input, transformed_band}, input_push, input_groups, prefix + " input");
+      seq.dispatch(wide ? *wide_input_transform_ : input_transform_, {input, transformed_band}, input_push,
+                   input_groups, prefix + " input");
     const GemmShape shape{.m = band_tiles, .n = out4, .k = in.channels, .b_transposed = true,
                           .batch = points(tile_), .a_batch_stride = band_tiles * in.channels,
                           .b_batch_stride = out4 * in.channels, .c_batch_stride = band_tiles * out4};

@@ -7,6 +7,7 @@
 // B^T's largest absolute row sum) and 19 (output: A^T's) per dimension, F(6x6, 3x3)'s by 12.5 and 67, more than
 // 16-bit storage's 11 bits can carry within the golden tolerances.
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -57,6 +58,10 @@ class WinogradConv3x3 {
   // on this device: the input's texel view and one band's scratch must fit the device's limits.
   bool supports(const ActivationShape& in, std::uint32_t out_channels) const;
 
+  // Whether the input transform of `in` takes 8 channels per invocation (one 32-byte store per transformed point:
+  // the device has shaderInt64 and in.channels is a multiple of 8) rather than 4.
+  bool wide_input_transform(const ActivationShape& in) const;
+
   // A 1-channel 3x3 convolution + bias + ReLU computed inside the input transform (SuperPoint's conv1a before
   // conv1b), so that its output is never stored: weights in the "o4" layout (in.channels x 1 x 3 x 3), bias fp32
   // padded to 4.
@@ -78,6 +83,9 @@ class WinogradConv3x3 {
 
   Tile tile_;
   Kernel input_transform_, stem_input_transform_, output_transform_, output_pool_transform_;
+  // The input transforms that take 8 channels per invocation in 32-byte stores (winograd_input_body.glsl says
+  // why), where the device has shaderInt64; they serve inputs whose channels are a multiple of 8.
+  std::optional<Kernel> wide_input_transform_, wide_stem_input_transform_;
   Gemm gemm_;
   std::size_t max_texel_elements_;
   std::size_t max_band_bytes_;  // per scratch buffer

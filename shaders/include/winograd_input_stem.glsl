@@ -1,7 +1,7 @@
 // Winograd input transform of a convolution whose input is itself a 1-channel 3x3 convolution + bias + ReLU of an
 // image (SuperPoint's conv1a before conv1b): the window is computed here from the image, so the stem's
 // full-resolution, 64-channel output is never stored nor read back. The transform and its layout:
-// winograd_input_body.glsl. Define WINOGRAD_TILE before inclusion.
+// winograd_input_body.glsl. Define WINOGRAD_TILE and WINOGRAD_WIDE before inclusion.
 //
 // The image is a bordered 1-channel tensor (1-pixel border) read 4 values of a row per texel. Window position
 // (r, x) is the stem's output at padded (m ty + r, m tx + x), the sum over its 3 x 3 taps of padded image rows
@@ -16,8 +16,8 @@ layout(binding = 0) uniform textureBuffer image;         // 4 consecutive values
 layout(binding = 1) uniform textureBuffer stem_weights;  // "o4": texel block * 9 + tap, 4 output channels
 layout(std430, binding = 2) readonly buffer StemBias { vec4 stem_bias[]; };
 
-const uint kBlock = kWinogradInput + 2u;                // image rows and columns a window needs
-const uint kBlockTexels = (kBlock + 3u + 3u) / 4u;      // enough for any start within a texel
+const uint kImageBlock = kWinogradInput + 2u;                // image rows and columns a window needs
+const uint kImageBlockTexels = (kImageBlock + 3u + 3u) / 4u;  // enough for any start within a texel
 
 void main() {
   TileBlock t;
@@ -27,27 +27,29 @@ void main() {
   const int first_texel = int(after_first / 4u) - 1;
   const uint shift = after_first & 3u;
 
-  float block[kBlock][kBlock];  // padded image (m ty - 1 + r, m tx - 1 + c)
-  [[unroll]] for (uint r = 0; r < kBlock; ++r) {
+  float image_block[kImageBlock][kImageBlock];  // padded image (m ty - 1 + r, m tx - 1 + c)
+  [[unroll]] for (uint r = 0; r < kImageBlock; ++r) {
     const uint row = min(max(t.ty * kWinogradTile + r, 1u) - 1u, p.height + 1u) * row_texels;
-    float values[kBlockTexels * 4u];
-    [[unroll]] for (uint k = 0; k < kBlockTexels; ++k) {
+    float values[kImageBlockTexels * 4u];
+    [[unroll]] for (uint k = 0; k < kImageBlockTexels; ++k) {
       const int column = clamp(first_texel + int(k), 0, int(row_texels) - 1);
       const vec4 texel = texelFetch(image, int(row) + column);
       [[unroll]] for (uint e = 0; e < 4u; ++e) values[k * 4u + e] = texel[e];
     }
-    [[unroll]] for (uint c = 0; c < kBlock; ++c) block[r][c] = WINOGRAD_SHIFTED(values, c, shift);
+    [[unroll]] for (uint c = 0; c < kImageBlock; ++c) image_block[r][c] = WINOGRAD_SHIFTED(values, c, shift);
   }
-  vec4 w[9];
-  [[unroll]] for (uint tap = 0; tap < 9u; ++tap) w[tap] = texelFetch(stem_weights, int(t.block * 9u + tap));
-  const vec4 bias = stem_bias[t.block];
-
-  vec4 d[kWinogradInput][kWinogradInput];  // the stem's ReLU'd output at window position (r, x), per channel
-  [[unroll]] for (uint r = 0; r < kWinogradInput; ++r)
-    [[unroll]] for (uint x = 0; x < kWinogradInput; ++x) {
-      vec4 sum = bias;
-      [[unroll]] for (uint tap = 0; tap < 9u; ++tap) sum += w[tap] * block[r + tap / 3u][x + tap % 3u];
-      d[r][x] = on_image(t, r, x) ? max(sum, 0.0) : vec4(0.0);
-    }
+  vec4 d[kBlocks][kWinogradInput][kWinogradInput];  // the stem's ReLU'd output at window position (r, x)
+  [[unroll]] for (uint h = 0; h < kBlocks; ++h) {
+    const uint block = kBlocks * t.block + h;  // of 4 stem output channels
+    vec4 w[9];
+    [[unroll]] for (uint tap = 0; tap < 9u; ++tap) w[tap] = texelFetch(stem_weights, int(block * 9u + tap));
+    const vec4 bias = stem_bias[block];
+    [[unroll]] for (uint r = 0; r < kWinogradInput; ++r)
+      [[unroll]] for (uint x = 0; x < kWinogradInput; ++x) {
+        vec4 sum = bias;
+        [[unroll]] for (uint tap = 0; tap < 9u; ++tap) sum += w[tap] * image_block[r + tap / 3u][x + tap % 3u];
+        d[h][r][x] = on_image(t, r, x) ? max(sum, 0.0) : vec4(0.0);
+      }
+  }
   store_transformed(t, d);
 }

@@ -12,12 +12,12 @@
 #error "WINOGRAD_TILE must be 4 or 6"
 #endif
 
-// The tile and the block of 4 channels an invocation of a transform takes: consecutive invocations take consecutive
-// channel blocks of one tile (neighbouring lanes then read or write neighbouring addresses). Tiles are numbered
-// row by row within a band of tile rows starting at first_tile_row.
+// The tile and the block of channels (4, or 8 in the wide input transforms) an invocation of a transform takes:
+// consecutive invocations take consecutive channel blocks of one tile (neighbouring lanes then read or write
+// neighbouring addresses). Tiles are numbered row by row within a band of tile rows starting at first_tile_row.
 struct WinogradTileBlock {
   uint tile;   // in the band
-  uint block;  // channels 4 block .. 4 block + 3
+  uint block;  // channels n block .. n block + n - 1 for blocks of n
   uint ty, tx;
 };
 

@@ -52,8 +52,7 @@ std::vector<float> with_nan_row_padding(std::vector<float> bordered, const Activ
   return bordered;
 }
 
-void check_winograd(const WinogradCase& c, std::uint32_t seed, Tile tile) {
-  auto& ctx = gpu();
+void check_winograd(const WinogradCase& c, std::uint32_t seed, Tile tile, const Context& ctx = gpu()) {
   const auto image = test::random_values(std::size_t(c.h) * c.w, seed + 3, 0.0f, 1.0f);
   const auto stem_weights = test::random_values(std::size_t(c.in_c) * 9, seed + 4, -0.5f, 0.5f);
   const auto stem_bias = test::random_values(c.in_c, seed + 5, -0.2f, 0.2f);
@@ -105,7 +104,7 @@ void check_winograd(const WinogradCase& c, std::uint32_t seed, Tile tile) {
   EXPECT_LE(test::max_abs_diff(got, expected), winograd_tolerance(conv, tile))
       << "winograd F(" << std::uint32_t(tile) << "x" << std::uint32_t(tile) << ", 3x3) conv " << (c.stem ? "(after a 1-channel stem) " : "") << c.in_c << "->" << c.out_c << " at " << c.w << "x" << c.h
       << (c.max_pool ? " + maxpool" : "") << ", " << (op.tiles_y(in) + op.band_rows(in, out.channels) - 1) / op.band_rows(in, out.channels)
-      << " band(s)";
+      << " band(s), " << (op.wide_input_transform(in) ? 8 : 4) << " channels per input-transform invocation";
   // The border of a padded output must stay zero: the next 3x3 layer reads it as padding.
   if (c.out_pad) {
     const auto interior = test::add_border(got, c.out_c, oh, ow, c.out_pad);
@@ -158,6 +157,26 @@ TEST(WinogradConv3x3, StemInTheInputTransformMatchesTwoConvolutions) {
     check_winograd({64, 64, 13, 29, 1, true, false, 0, true}, 91, tile);
     check_winograd({8, 12, 22, 18, 1, true, true, 0, true}, 92, tile);
     check_winograd({8, 8, 30, 17, 1, true, true, 2, true}, 93, tile);  // 2 tile rows a band
+  }
+}
+
+// The input transform takes 8 channels per invocation (one 32-byte store per point) where the device has
+// shaderInt64 and the channels are a multiple of 8, else 4: the cases above run the 8-channel form at 8, 16, 64 and
+// 128 channels on such a device; here the 4-channel form, on a device without shaderInt64 and at 12 channels.
+TEST(WinogradConv3x3, InputTransformTakesEightChannelsWhereTheDeviceHasInt64) {
+  if (!winograd_available()) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
+  const WinogradConv3x3 op(gpu(), Precision::fp32, Tile::f63);
+  EXPECT_EQ(op.wide_input_transform({64, 8, 8, 1}), gpu().caps().int64);
+  EXPECT_FALSE(op.wide_input_transform({12, 8, 8, 1}));
+  EXPECT_FALSE(op.wide_input_transform({4, 8, 8, 1}));
+  const Context without_int64({.pipeline_cache = false, .use_int64 = false});
+  EXPECT_FALSE(without_int64.caps().int64);
+  EXPECT_FALSE(WinogradConv3x3(without_int64, Precision::fp32, Tile::f63).wide_input_transform({64, 8, 8, 1}));
+  for (const Tile tile : kTiles) {
+    check_winograd({64, 64, 13, 29, 1, true, false}, 101, tile, without_int64);
+    check_winograd({64, 16, 14, 18, 1, true, true, 0, true}, 102, tile, without_int64);  // stem + pool
+    check_winograd({12, 8, 15, 19, 1, true, false}, 103, tile);
+    check_winograd({12, 8, 15, 19, 1, true, true, 0, true}, 104, tile);
   }
 }
 
