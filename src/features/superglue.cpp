@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "features/superglue/weights.hpp"
 #include "io/config.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/half.hpp"
@@ -18,8 +19,6 @@
 namespace vkvo::features {
 namespace {
 
-constexpr std::size_t kAlign = 256;  // bytes: >= minStorageBufferOffsetAlignment everywhere
-
 // Query rows per invocation of superglue_attention_tiled.comp unless the caller chose: 8 on CPU devices, where the
 // key and value fetches then serve twice the multiply-adds (measured there); GPUs keep the 4 they had until one is
 // measured, since 8 doubles what each invocation holds (query rows and accumulators, 2 x rows x head_dim floats).
@@ -28,40 +27,6 @@ std::uint32_t attention_rows(const rt::Context& context, int chosen) {
     throw std::invalid_argument(fmt::format("SuperGlue: attention_rows must be 0 (automatic) to 16, got {}", chosen));
   if (chosen > 0) return static_cast<std::uint32_t>(chosen);
   return context.caps().type == "cpu" ? 8 : 4;
-}
-
-std::size_t align_up(std::size_t v, std::size_t a) { return (v + a - 1) / a * a; }
-
-// A linear layer y = W x + b, W row-major [out][in], prepared on the host.
-struct Linear {
-  int out = 0, in = 0;
-  std::vector<float> weight, bias;
-};
-
-Linear read_linear(const io::ModelPack& pack, const std::string& name) {
-  const auto& w = pack.tensor(name + ".weight", io::DType::fp32);
-  if (w.shape.size() != 2 || w.layout != "oi")
-    throw std::runtime_error(fmt::format("model pack '{}': tensor '{}.weight' must be a 2-D 'oi' linear weight",
-                                         pack.source(), name));
-  Linear l{int(w.shape[0]), int(w.shape[1]), pack.floats(name + ".weight", io::DType::fp32),
-           pack.floats(name + ".bias", io::DType::fp32)};
-  if (l.bias.size() < std::size_t(l.out))
-    throw std::runtime_error(fmt::format("model pack '{}': '{}.bias' has {} values, expected {}", pack.source(), name,
-                                         l.bias.size(), l.out));
-  l.bias.resize(std::size_t(l.out));
-  return l;
-}
-
-void expect_shape(const io::ModelPack& pack, const std::string& name, const Linear& l, int out, int in) {
-  if (l.out != out || l.in != in)
-    throw std::runtime_error(fmt::format("model pack '{}': '{}' maps {} -> {}, expected {} -> {}", pack.source(), name,
-                                         l.in, l.out, in, out));
-}
-
-// SuperGlue's dim-major head split (channel c = d * heads + h) -> head-major (h * head_dim + d).
-int head_major_source(int c_new, int heads, int head_dim) {
-  const int h = c_new / head_dim, d = c_new % head_dim;
-  return d * heads + h;
 }
 
 }  // namespace
@@ -112,16 +77,8 @@ SuperGlueConfig read_superglue_config(const io::ModelPack& pack) {
 // ---------------------------------------------------------------------------------------------------------------
 
 struct SuperGlue::Impl {
-  // Where a prepared layer lives: weight at an element offset of `weights`, bias at a byte offset of `biases`.
-  struct Layer {
-    std::uint32_t out = 0, in = 0;
-    std::uint32_t weight_offset = 0;  // elements
-    std::size_t bias_offset = 0;      // bytes
-  };
-  struct GnnLayer {
-    bool cross = false;
-    Layer qkv, mlp0, mlp1;
-  };
+  using Layer = PreparedLinear;
+  using GnnLayer = SuperGlueWeights::GnnLayer;
 
   const rt::Context& context;
   SuperGlueParams params;
@@ -241,86 +198,19 @@ struct SuperGlue::Impl {
     return context.caps().type == "cpu" && (n0 + 1) * (n1 + 1) <= kFusedSinkhornCells;
   }
 
-  // Reads the pack's fp32 weights, regroups and folds them (see the header), and uploads them at the storage
-  // precision: all weights in one buffer, all biases (fp32) in another.
+  // Regroups and folds the pack's fp32 weights (superglue/weights.hpp) and uploads them at the storage precision:
+  // all weights in one buffer, all biases (fp32) in another.
   void prepare_weights(const io::ModelPack& pack) {
-    const int dim = config.descriptor_dim, heads = config.heads, head_dim = dim / heads;
-    std::vector<float> w_all, b_all;
-    auto add = [&](const Linear& l) {
-      Layer layer{std::uint32_t(l.out), std::uint32_t(l.in), std::uint32_t(w_all.size()), b_all.size() * 4};
-      w_all.insert(w_all.end(), l.weight.begin(), l.weight.end());
-      w_all.resize(align_up(w_all.size(), 4));
-      b_all.insert(b_all.end(), l.bias.begin(), l.bias.end());
-      b_all.resize(align_up(b_all.size(), kAlign / 4));
-      return layer;
-    };
-
-    // Keypoint encoder [x, y, score] -> widths... -> dim; the input is padded to 4 columns.
-    int in = 3;
-    const std::size_t encoder_layers = config.encoder_widths.size() + 1;
-    for (std::size_t i = 0; i < encoder_layers; ++i) {
-      const std::string name = fmt::format("kenc.{}", i);
-      Linear l = read_linear(pack, name);
-      const int out = i < config.encoder_widths.size() ? config.encoder_widths[i] : dim;
-      expect_shape(pack, name, l, out, in);
-      if (i == 0) {
-        Linear padded{l.out, 4, std::vector<float>(std::size_t(l.out) * 4, 0.0f), l.bias};
-        for (int o = 0; o < l.out; ++o)
-          for (int c = 0; c < 3; ++c) padded.weight[std::size_t(o) * 4 + c] = l.weight[std::size_t(o) * 3 + c];
-        l = std::move(padded);
-      }
-      encoder.push_back(add(l));
-      in = out;
-    }
-
-    for (std::size_t layer = 0; layer < config.cross_layers.size(); ++layer) {
-      auto part = [&](const char* what, int out, int in_dim) {
-        const std::string name = fmt::format("gnn.{}.{}", layer, what);
-        Linear l = read_linear(pack, name);
-        expect_shape(pack, name, l, out, in_dim);
-        return l;
-      };
-      // q, k, v stacked, output channels regrouped head-major.
-      Linear qkv{3 * dim, dim, std::vector<float>(std::size_t(3) * dim * dim), std::vector<float>(3 * dim)};
-      const char* names[3] = {"q", "k", "v"};
-      for (int p = 0; p < 3; ++p) {
-        const Linear l = part(names[p], dim, dim);
-        for (int c = 0; c < dim; ++c) {
-          const int src = head_major_source(c, heads, head_dim);
-          std::copy_n(&l.weight[std::size_t(src) * dim], dim, &qkv.weight[(std::size_t(p) * dim + c) * dim]);
-          qkv.bias[std::size_t(p) * dim + c] = l.bias[src];
-        }
-      }
-      // mlp0 on concat(x, merge(m)) == [W0a | W0b Wm] concat(x, m) + (b0 + W0b bm), with m's channels head-major.
-      const Linear merge = part("merge", dim, dim);
-      const Linear mlp0 = part("mlp0", 2 * dim, 2 * dim);
-      Linear folded{2 * dim, 2 * dim, std::vector<float>(std::size_t(4) * dim * dim), mlp0.bias};
-      for (int o = 0; o < 2 * dim; ++o) {
-        const float* w0 = &mlp0.weight[std::size_t(o) * 2 * dim];
-        float* dst = &folded.weight[std::size_t(o) * 2 * dim];
-        std::copy_n(w0, dim, dst);
-        std::vector<double> row(std::size_t(dim), 0.0);
-        double bias = mlp0.bias[o];
-        for (int r = 0; r < dim; ++r) {
-          const double w = w0[dim + r];
-          const float* wm = &merge.weight[std::size_t(r) * dim];
-          for (int c = 0; c < dim; ++c) row[std::size_t(c)] += w * wm[c];
-          bias += w * merge.bias[r];
-        }
-        for (int c = 0; c < dim; ++c) dst[dim + c] = float(row[std::size_t(head_major_source(c, heads, head_dim))]);
-        folded.bias[o] = float(bias);
-      }
-      gnn.push_back({config.cross_layers[layer], add(qkv), add(folded), add(part("mlp1", dim, 2 * dim))});
-    }
-    Linear fp = read_linear(pack, "final_proj");
-    expect_shape(pack, "final_proj", fp, dim, dim);
-    final_proj = add(fp);
-
-    const auto bytes = rt::encode_storage(w_all, precision);
+    SuperGlueWeights prepared = prepare_superglue_weights(pack, config);
+    encoder = std::move(prepared.encoder);
+    gnn = std::move(prepared.gnn);
+    final_proj = prepared.final_proj;
+    const auto bytes = rt::encode_storage(prepared.weights, precision);
     weights = std::make_unique<rt::Buffer>(context, bytes.size(), rt::BufferKind::device, "superglue.weights");
     weights->upload(bytes.data(), bytes.size());
-    biases = std::make_unique<rt::Buffer>(context, b_all.size() * 4, rt::BufferKind::device, "superglue.biases");
-    biases->upload(b_all.data(), b_all.size() * 4);
+    const std::size_t bias_bytes = prepared.biases.size() * sizeof(float);
+    biases = std::make_unique<rt::Buffer>(context, bias_bytes, rt::BufferKind::device, "superglue.biases");
+    biases->upload(prepared.biases.data(), bias_bytes);
   }
 
   rt::Buffer* make_buffer(std::size_t bytes, const char* name) {

@@ -192,7 +192,8 @@ inline io::ModelPack random_superglue_pack(const RandomSuperGlueSpec& spec) {
     add(fmt::format("gnn.{}.merge", l), d, d, 1.0);
     add(fmt::format("gnn.{}.mlp0", l), 2 * d, 2 * d, 1.0);
     add(fmt::format("gnn.{}.mlp1", l), d, 2 * d, 0.3);
-    types += (l ? "," : "") + std::string(spec.cross[l] ? "cross" : "self");
+    if (l) types += ',';
+    types += spec.cross[l] ? "cross" : "self";
   }
   add("final_proj", spec.dim, spec.dim, 0.2, spec.proj_gain);
   w.set_number("descriptor_dim", spec.dim);
