@@ -9,12 +9,12 @@
 #include <spdlog/spdlog.h>
 
 #include "app/command.hpp"
-#include "app/model_locator.hpp"
 #include "eval/evaluate.hpp"
 #include "io/dataset.hpp"
 #include "io/trajectory.hpp"
 #include "system/network_frontend.hpp"
 #include "system/pipeline.hpp"
+#include "tools/convert/model_locator.hpp"
 
 namespace {
 
@@ -54,15 +54,17 @@ int run(const Options& o) {
   spdlog::info("dataset {} ({}): {} stereo frames", dataset->name(), vkvo::io::to_string(dataset->kind()),
                dataset->size());
 
-  const auto superpoint = vkvo::app::locate_model("superpoint_v1", o.model.empty() ? config.superpoint_model : o.model);
-  if (!superpoint) throw std::runtime_error(vkvo::app::superpoint_help());
+  const auto model_search = vkvo::convert::default_model_search(VKVO_SOURCE_DIR);
+  const auto superpoint = vkvo::convert::locate_model(
+      "superpoint_v1", o.model.empty() ? config.superpoint_model : o.model, model_search);
+  if (!superpoint) throw std::runtime_error(vkvo::convert::superpoint_help());
   spdlog::info("SuperPoint: {} [{}]", superpoint->pack.string(), superpoint->how);
   const auto superpoint_pack = vkvo::io::ModelPack::load(superpoint->pack, vkvo::io::NetworkKind::superpoint);
   std::optional<vkvo::io::ModelPack> superglue_pack;
   if (config.matcher == "superglue") {
     const fs::path explicit_superglue = o.superglue.empty() ? config.superglue_model : o.superglue;
     if (!explicit_superglue.empty()) {
-      const auto superglue = vkvo::app::locate_model("superglue", explicit_superglue);
+      const auto superglue = vkvo::convert::locate_model("superglue", explicit_superglue, model_search);
       superglue_pack = vkvo::io::ModelPack::load(superglue->pack, vkvo::io::NetworkKind::superglue);
       spdlog::info("SuperGlue: {} [{}]", superglue->pack.string(), superglue->how);
     } else {
@@ -117,7 +119,7 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--matcher", o->matcher, "superglue | nn (overrides the config)")
            ->check(CLI::IsMember({"superglue", "nn"}));
        sub.add_flag("--no-lines", o->no_lines, "points only (the paper's w/o-line ablation)");
-       sub.add_option("--model", o->model, "SuperPoint pack or ONNX (default: config, $VKVO_MODELS, ../shared/models)");
+       sub.add_option("--model", o->model, "SuperPoint pack or ONNX (default: config, $VKVO_MODELS, models/, ../shared/models)");
        sub.add_option("--superglue", o->superglue, "SuperGlue pack or ONNX (default: config models.superglue)");
        sub.add_option("--first", o->first, "first frame index (overrides the config's dataset.first_frame)");
        sub.add_option("--last", o->last, "last frame index, inclusive; -1: to the end (dataset.last_frame)");

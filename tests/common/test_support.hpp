@@ -23,6 +23,19 @@ void write_text(const std::filesystem::path& file, const std::string& text);
 // The whole content of `file` (empty when it cannot be read).
 std::string read_text(const std::filesystem::path& file);
 
+// Sets (or, for nullptr, unsets) an environment variable for the scope and restores it afterwards.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const char* value);
+  ~ScopedEnv();
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  std::string name_;
+  std::optional<std::string> old_;
+};
+
 // The what() of the exception `fn` throws, or "<no exception>".
 template <typename Fn>
 std::string error_of(Fn&& fn) {

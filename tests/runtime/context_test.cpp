@@ -72,18 +72,12 @@ TEST(Context, WithoutSixteenBitFeaturesOnlyFp32Runs) {
 
 // With no driver for the loader to find, creating a context fails with the step and a hint, not a crash.
 TEST(Context, NoVulkanDriverIsAClearError) {
-  // Both names the loader reads for the driver manifests (VK_DRIVER_FILES from loader 1.3.207 on).
-  const char* names[] = {"VK_ICD_FILENAMES", "VK_DRIVER_FILES"};
-  std::vector<std::optional<std::string>> saved;
-  for (const char* name : names) {
-    const char* value = std::getenv(name);
-    saved.push_back(value ? std::optional<std::string>(value) : std::nullopt);
-    ::setenv(name, "/nonexistent/vkvo_no_driver.json", 1);
-  }
-  const std::string error = test::error_of([] { Context context({.validation = false, .pipeline_cache = false}); });
-  for (std::size_t i = 0; i < saved.size(); ++i) {
-    if (saved[i]) ::setenv(names[i], saved[i]->c_str(), 1);
-    else ::unsetenv(names[i]);
+  std::string error;
+  {
+    // Both names the loader reads for the driver manifests (VK_DRIVER_FILES from loader 1.3.207 on).
+    const test::ScopedEnv icd("VK_ICD_FILENAMES", "/nonexistent/vkvo_no_driver.json"),
+        drivers("VK_DRIVER_FILES", "/nonexistent/vkvo_no_driver.json");
+    error = test::error_of([] { Context context({.validation = false, .pipeline_cache = false}); });
   }
   EXPECT_NE(error.find("Vulkan"), std::string::npos) << error;
   EXPECT_NE(error.find("vulkaninfo"), std::string::npos) << error;

@@ -1,14 +1,14 @@
-#include "app/model_locator.hpp"
+#include "tools/convert/model_locator.hpp"
 
 #include <cstdlib>
-#include <vector>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "tools/convert/convert.hpp"
 
-namespace vkvo::app {
+namespace vkvo::convert {
 namespace {
 
 namespace fs = std::filesystem;
@@ -31,18 +31,10 @@ LocatedModel as_pack(const fs::path& file, const std::string& how) {
     fs::create_directories(pack.parent_path());
     spdlog::info("converting {} -> {} (once)", file.string(), pack.string());
     const fs::path tmp = pack.string() + ".tmp";
-    convert::convert_file(file, tmp);
+    convert_file(file, tmp);
     fs::rename(tmp, pack);
   }
   return {pack, fmt::format("{} (converted from {})", how, file.string())};
-}
-
-std::vector<fs::path> shared_model_dirs() {
-  std::vector<fs::path> dirs;
-  if (const char* data = std::getenv("VKVO_DATA"); data && *data) dirs.push_back(fs::path(data) / "models");
-  dirs.push_back(fs::current_path() / ".." / "shared" / "models");
-  dirs.push_back(fs::path(VKVO_SOURCE_DIR) / ".." / "shared" / "models");
-  return dirs;
 }
 
 std::optional<LocatedModel> find_in(const fs::path& dir, const std::string& stem, const std::string& how) {
@@ -55,21 +47,33 @@ std::optional<LocatedModel> find_in(const fs::path& dir, const std::string& stem
 
 }  // namespace
 
-std::optional<LocatedModel> locate_model(const std::string& stem, const fs::path& explicit_path) {
-  if (!explicit_path.empty()) return as_pack(explicit_path, "given");
+ModelSearch default_model_search(const fs::path& checkout) {
+  ModelSearch search;
   if (const char* models = std::getenv("VKVO_MODELS"); models && *models)
-    if (auto found = find_in(models, stem, "$VKVO_MODELS")) return found;
-  for (const auto& dir : shared_model_dirs())
-    if (auto found = find_in(dir, stem, "shared data")) return found;
+    search.folders.push_back({models, "$VKVO_MODELS"});
+  if (!checkout.empty()) search.folders.push_back({checkout / "models", "the checkout's models/"});
+  if (const char* data = std::getenv("VKVO_DATA"); data && *data)
+    search.folders.push_back({fs::path(data) / "models", "shared data ($VKVO_DATA)"});
+  search.folders.push_back({fs::current_path() / ".." / "shared" / "models", "shared data"});
+  if (!checkout.empty()) search.folders.push_back({checkout / ".." / "shared" / "models", "shared data"});
+  return search;
+}
+
+std::optional<LocatedModel> locate_model(const std::string& stem, const fs::path& explicit_path,
+                                         const ModelSearch& search) {
+  if (!explicit_path.empty()) return as_pack(explicit_path, "given");
+  for (const auto& folder : search.folders)
+    if (auto found = find_in(folder.path, stem, folder.how)) return found;
   return std::nullopt;
 }
 
 std::string superpoint_help() {
   return "no SuperPoint weights found. vkvo looks for superpoint_v1.vkvopack or superpoint_v1.onnx in --model, "
-         "$VKVO_MODELS, then $VKVO_DATA/models or ../shared/models. To make one: export Magic Leap's "
-         "superpoint_v1.pth (SuperPointPretrainedNetwork, non-commercial research licence) to ONNX with "
-         "torch.onnx.export (opset 13, input 1x1xHxW with dynamic H/W), or take the superpoint_v1.onnx that AirVO "
-         "ships, then run `vkvo convert --onnx superpoint_v1.onnx --out $VKVO_MODELS/superpoint_v1.vkvopack`.";
+         "$VKVO_MODELS, the checkout's models/ folder, then $VKVO_DATA/models or ../shared/models. To make one: "
+         "export Magic Leap's superpoint_v1.pth (SuperPointPretrainedNetwork, non-commercial research licence) to "
+         "ONNX with torch.onnx.export (opset 13, input 1x1xHxW with dynamic H/W), or take the superpoint_v1.onnx "
+         "that AirVO ships, and put it in models/ (converted on first use), or run `vkvo convert --onnx "
+         "superpoint_v1.onnx --out models/superpoint_v1.vkvopack` (models/README.md).";
 }
 
-}  // namespace vkvo::app
+}  // namespace vkvo::convert
