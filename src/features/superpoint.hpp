@@ -37,7 +37,7 @@ struct SuperPointParams {
   // devices; `on` wherever the precision is fp32 and the tiled kernels run; `off` never.
   enum class Winograd { automatic, on, off } winograd = Winograd::automatic;
   // Its output tile side m: F(6x6, 3x3) does 21 % fewer GEMM multiply-adds and stores 21 % fewer transformed values
-  // than F(4x4, 3x3) (4-16 % faster on lavapipe; README, Performance).
+  // than F(4x4, 3x3) (4-16 % faster on lavapipe; docs/performance-history.md).
   rt::WinogradConv3x3::Tile winograd_tile = rt::WinogradConv3x3::Tile::f63;
 };
 
