@@ -148,7 +148,8 @@ def main():
     print(f"{'case':16s} {'variant':36s} {'score max abs':>13s} {'worst desc cos':>14s}")
     for case in args.cases:
         folder = os.path.join(args.data, "golden", "superpoint", case)
-        image = torch.from_numpy(np.asarray(Image.open(os.path.join(folder, "image.png")).convert("L"), np.float64) / 255)
+        pixels = np.asarray(Image.open(os.path.join(folder, "image.png")).convert("L"), np.float64)
+        image = torch.from_numpy(pixels / 255)
         ref_scores = torch.from_numpy(np.load(os.path.join(folder, "dense_scores.npy"))).double()
         ref_desc = torch.from_numpy(np.load(os.path.join(folder, "dense_descriptors.npy"))).double()
         for label, variant in variants:

@@ -118,8 +118,9 @@ SuperGlueWeights prepare_superglue_weights(const io::ModelPack& pack, const Supe
     const Linear projections[3] = {part("q", dim, dim), part("k", dim, dim), part("v", dim, dim)};
     const Linear merge = part("merge", dim, dim);
     const Linear folded = merge_folded_into(part("mlp0", 2 * dim, 2 * dim), merge, heads);
-    prepared.gnn.push_back(
-        {config.cross_layers[layer], add(stacked_qkv(projections, heads)), add(folded), add(part("mlp1", dim, 2 * dim))});
+    // Braced: the layers are added (and so laid out) in this order.
+    prepared.gnn.push_back({config.cross_layers[layer], add(stacked_qkv(projections, heads)), add(folded),
+                            add(part("mlp1", dim, 2 * dim))});
   }
   prepared.final_proj = add(read_linear(pack, "final_proj", dim, dim));
   return prepared;
