@@ -2,8 +2,8 @@
 # README command 1: installs the dependencies, builds vkvo and runs the main job on the default sample:
 # a synthetic 752x480 stereo sequence with the lights switched off and on again in the middle, the VO on it, and
 # the evaluation against its ground truth (ATE, timing table, trajectory plot).
-# DEMO_FRAMES (default 60: a few minutes on lavapipe, where SuperPoint takes ~2.5 s a frame on two cores; use
-# 200 on a GPU for the full 10 s preset).
+# DEMO_FRAMES (default 60: a minute or two on lavapipe, where SuperPoint takes about 0.5 s a frame on two cores;
+# use 200 on a GPU for the full 10 s preset).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
@@ -17,8 +17,8 @@ VKVO="$BUILD_DIR/bin/vkvo"
 FRAMES=${DEMO_FRAMES:-60}
 "$VKVO" synth --out "$OUT/sequence" --preset default --frames "$FRAMES" --no-default-events \
               --events "lights_off:$((FRAMES / 2 - 3))-$((FRAMES / 2 + 2))"
-# The SuperPoint weights: --model, $VKVO_MODELS, then ../shared/models (converted on first use); vkvo explains
-# how to obtain them when none is found.
+# The SuperPoint weights: --model, $VKVO_MODELS, models/, then ../shared/models (converted on first use); vkvo
+# explains how to obtain them when none is found.
 "$VKVO" run --config config/euroc.yaml --dataset "$OUT/sequence" --out "$OUT/run" ${VKVO_MODEL:+--model "$VKVO_MODEL"}
 "$VKVO" eval --estimate "$OUT/run/trajectory.txt" --groundtruth "$OUT/sequence/groundtruth_tum.txt" \
              --plot "$OUT/run/trajectory.png" --json "$OUT/run/eval.json"

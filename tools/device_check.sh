@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# The GPU checks, run on a machine that has the kit of tools/device_kit.sh (.devkit/kit.tar.xz) but not Debian's
+# libraries: the devices vkvo sees, `vkvo bench` of SuperPoint in every precision the GPU has, and
+# `vkvo run` on a rendered 752x480 sequence (issue 7's frames/s; NN matcher, since only synthetic SuperGlue
+# weights exist here). Each step's log goes to $OUT (default out/device; six files: gpu, devices, bench_superpoint,
+# synth and run logs and the run's summary.json), and a failing step does not stop the others.
+#
+#   [OUT=DIR] [REPEAT=N] tools/device_check.sh [FRAMES]     (defaults: out/device, 20 timed calls, 200 frames)
+set -uo pipefail
+cd "$(dirname "$0")/.."
+FRAMES=${1:-200}
+OUT=${OUT:-out/device}
+KIT=/tmp/vkvo-kit
+WORK=/tmp/vkvo-check  # the rendered sequence and the run's outputs, which need not come back
+mkdir -p "$OUT" "$KIT" "$WORK"
+tar -C "$KIT" -xJf .devkit/kit.tar.xz || { echo "device_check: no .devkit/kit.tar.xz (tools/device_kit.sh)"; exit 1; }
+export LD_LIBRARY_PATH="$KIT/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+for icd in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json /usr/share/vulkan/icd.d/nvidia_icd.json \
+           /etc/vulkan/icd.d/nvidia_icd.json; do
+  if [ -f "$icd" ]; then export VK_DRIVER_FILES="$icd" VK_ICD_FILENAMES="$icd"; break; fi
+done
+VKVO="$KIT/bin/vkvo"
+step() {  # name, command...
+  local name=$1; shift
+  echo "== $name: $*"
+  local start=$SECONDS
+  "$@" > "$OUT/$name.txt" 2>&1
+  local rc=$?
+  tail -n 25 "$OUT/$name.txt"
+  echo "== $name: rc=$rc, $((SECONDS - start)) s"
+}
+
+nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv > "$OUT/gpu.txt" 2>&1 && cat "$OUT/gpu.txt"
+step devices "$VKVO" devices
+step bench_superpoint "$VKVO" bench --superpoint --model "$KIT/models/superpoint_v1.vkvopack" --repeat "${REPEAT:-20}"
+step synth "$VKVO" synth --out "$WORK/sequence" --preset default --frames "$FRAMES"
+step run "$VKVO" run --config "$KIT/euroc.yaml" --dataset "$WORK/sequence" --model "$KIT/models/superpoint_v1.vkvopack" \
+     --matcher nn --out "$WORK/run"
+[ -f "$WORK/run/summary.json" ] && cp "$WORK/run/summary.json" "$OUT/run_summary.json"
