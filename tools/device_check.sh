@@ -12,8 +12,13 @@ FRAMES=${1:-200}
 OUT=${OUT:-out/device}
 KIT=/tmp/vkvo-kit
 WORK=/tmp/vkvo-check  # the rendered sequence and the run's outputs, which need not come back
+rm -rf "$KIT" "$WORK"
 mkdir -p "$OUT" "$KIT" "$WORK"
-tar -C "$KIT" -xJf .devkit/kit.tar.xz || { echo "device_check: no .devkit/kit.tar.xz (tools/device_kit.sh)"; exit 1; }
+[ -f .devkit/kit.tar.xz ] || { echo "device_check: no .devkit/kit.tar.xz (tools/device_kit.sh)"; exit 1; }
+# Python's lzma where tar has no xz to call.
+tar -C "$KIT" -xJf .devkit/kit.tar.xz 2> /dev/null ||
+  python3 -c "import sys, tarfile; tarfile.open(sys.argv[1]).extractall(sys.argv[2])" .devkit/kit.tar.xz "$KIT" ||
+  { echo "device_check: cannot unpack .devkit/kit.tar.xz"; exit 1; }
 export LD_LIBRARY_PATH="$KIT/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 for icd in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json /usr/share/vulkan/icd.d/nvidia_icd.json \
            /etc/vulkan/icd.d/nvidia_icd.json; do
@@ -34,6 +39,6 @@ nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv > "$OUT/gpu
 step devices "$VKVO" devices
 step bench_superpoint "$VKVO" bench --superpoint --model "$KIT/models/superpoint_v1.vkvopack" --repeat "${REPEAT:-20}"
 step synth "$VKVO" synth --out "$WORK/sequence" --preset default --frames "$FRAMES"
-step run "$VKVO" run --config "$KIT/euroc.yaml" --dataset "$WORK/sequence" --model "$KIT/models/superpoint_v1.vkvopack" \
+step run "$VKVO" run --config config/euroc.yaml --dataset "$WORK/sequence" --model "$KIT/models/superpoint_v1.vkvopack" \
      --matcher nn --out "$WORK/run"
 [ -f "$WORK/run/summary.json" ] && cp "$WORK/run/summary.json" "$OUT/run_summary.json"

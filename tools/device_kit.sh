@@ -53,7 +53,6 @@ fi
 # SuperPoint only: the synthetic SuperGlue pack (72 MB of random weights, which do not compress) would not fit what
 # the device tool carries (64 MiB).
 "$VKVO" convert --onnx "$DATA/models/superpoint_v1.onnx" --out "$stage/models/superpoint_v1.vkvopack" > /dev/null
-cp tools/device_check.sh config/euroc.yaml "$stage/"
 tar -C "$stage" -cf - . | xz -T0 -6 > "$KIT/kit.tar.xz"
 rm -rf "$stage"
 echo "device_kit: $KIT/kit.tar.xz ($(du -h "$KIT/kit.tar.xz" | cut -f1)); on the device: tools/device_check.sh"
