@@ -1,5 +1,6 @@
 #include "geometry/line3d.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -104,6 +105,13 @@ Eigen::Vector3d image_line(const Segment2d& s) {
 
 double point_line_distance(const Eigen::Vector3d& l, const Eigen::Vector2d& p) {
   return (l.x() * p.x() + l.y() * p.y() + l.z()) / l.head<2>().norm();
+}
+
+double line_reprojection_error(const PlueckerLine& L_world, const PinholeCamera& camera, const LineObservation& obs) {
+  const Eigen::Vector3d l = project_line(camera, transform_line(obs.T_world_camera.inverse(), L_world));
+  if (l.head<2>().norm() < 1e-12) return std::numeric_limits<double>::infinity();
+  return std::max(std::abs(point_line_distance(l, obs.segment.head<2>())),
+                  std::abs(point_line_distance(l, obs.segment.tail<2>())));
 }
 
 std::pair<Eigen::Vector3d, Eigen::Vector3d> trim_line(const PlueckerLine& L_world, const PinholeCamera& camera,

@@ -65,6 +65,11 @@ struct LineObservation {
   Segment2d segment = Segment2d::Zero();
 };
 
+// How far an observed segment lies from the projection of a world line: the larger of its two endpoints' distances
+// to the projected image line, in pixels (the line residual of eq. 9, unweighted). Infinity when the line projects
+// to a point (it passes through the camera centre).
+double line_reprojection_error(const PlueckerLine& L_world, const PinholeCamera& camera, const LineObservation& obs);
+
 // The 3D segment covered by the observations: each observed endpoint's ray is intersected with (closest point to)
 // the 3D line, and the extreme points along the line are kept. For output and visualisation.
 std::pair<Eigen::Vector3d, Eigen::Vector3d> trim_line(const PlueckerLine& L_world, const PinholeCamera& camera,

@@ -108,6 +108,19 @@ LineTriangulation triangulate_line(const PinholeCamera& camera, const LineObserv
   return {};
 }
 
+std::optional<PlueckerLine> triangulate_two_view_line(const PinholeCamera& camera, const LineObservation& a,
+                                                      const LineObservation& b, const TriangulationParams& params) {
+  const auto L = triangulate_line_from_planes(camera, a, b, params.min_line_plane_angle_deg * M_PI / 180.0);
+  if (!L) return std::nullopt;
+  const auto [e0, e1] = trim_line(*L, camera, {a});
+  const Eigen::Isometry3d T_a_world = a.T_world_camera.inverse();
+  for (const Eigen::Vector3d& e : {e0, e1}) {
+    const double depth = (T_a_world * e).z();
+    if (depth < params.min_depth || depth > params.max_depth) return std::nullopt;
+  }
+  return L;
+}
+
 LineTriangulation triangulate_stereo_line(
     const StereoCamera& stereo, const Segment2d& left, const Segment2d& right,
     const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& points_on_line, const TriangulationParams& params) {

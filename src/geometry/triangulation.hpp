@@ -53,6 +53,12 @@ LineTriangulation triangulate_line(const PinholeCamera& camera, const LineObserv
                                    const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& points_on_line,
                                    const TriangulationParams& params);
 
+// Two views of a line from different poses (two keyframes): the planes' intersection, kept only when the segment
+// seen in `a` then lies within [min_depth, max_depth] of camera a at both ends. A temporal baseline is often longer
+// than the stereo one, but it is along the motion, so lines parallel to it stay degenerate (nullopt).
+std::optional<PlueckerLine> triangulate_two_view_line(const PinholeCamera& camera, const LineObservation& a,
+                                                      const LineObservation& b, const TriangulationParams& params);
+
 // Stereo convenience: left and right segments of the rectified pair -> line in the left camera frame.
 LineTriangulation triangulate_stereo_line(
     const StereoCamera& stereo, const Segment2d& left, const Segment2d& right,

@@ -31,20 +31,30 @@ StereoPoints triangulate_stereo_points(const geometry::StereoCamera& stereo, con
   return out;
 }
 
+std::vector<std::optional<Eigen::Vector3d>> known_points_in_camera(
+    const StereoPoints& stereo, const std::vector<std::optional<Eigen::Vector3d>>& tracked_world,
+    const Eigen::Isometry3d& T_world_camera) {
+  const Eigen::Isometry3d T_camera_world = T_world_camera.inverse();
+  std::vector<std::optional<Eigen::Vector3d>> known = stereo.positions;
+  for (std::size_t i = 0; i < known.size() && i < tracked_world.size(); ++i)
+    if (tracked_world[i]) known[i] = T_camera_world * *tracked_world[i];
+  return known;
+}
+
 namespace {
 
-// The two triangulated points of `line` whose keypoints lie nearest the segment's supporting line.
+// The two known 3D points of `line` whose keypoints lie nearest the segment's supporting line.
 std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> two_points_on_line(
     const features::LineSegment& line, const std::vector<int>& line_points, const features::PointFeatures& points,
-    const StereoPoints& stereo) {
+    const std::vector<std::optional<Eigen::Vector3d>>& known_points) {
   std::vector<std::pair<float, int>> candidates;
   for (int k : line_points)
-    if (stereo.positions[static_cast<std::size_t>(k)])
+    if (known_points[static_cast<std::size_t>(k)])
       candidates.emplace_back(line.distance_to_line(points.keypoints[static_cast<std::size_t>(k)]), k);
   if (candidates.size() < 2) return std::nullopt;
   std::partial_sort(candidates.begin(), candidates.begin() + 2, candidates.end());
-  const Eigen::Vector3d a = *stereo.positions[static_cast<std::size_t>(candidates[0].second)];
-  const Eigen::Vector3d b = *stereo.positions[static_cast<std::size_t>(candidates[1].second)];
+  const Eigen::Vector3d a = *known_points[static_cast<std::size_t>(candidates[0].second)];
+  const Eigen::Vector3d b = *known_points[static_cast<std::size_t>(candidates[1].second)];
   if ((a - b).norm() < 1e-3) return std::nullopt;  // the same 3D point twice: no direction
   return std::make_pair(a, b);
 }
@@ -57,7 +67,8 @@ StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo,
                                      const std::vector<features::LineSegment>& right_lines,
                                      const features::PointLineAssociation& right_association,
                                      const std::vector<int>& stereo_matches, const features::PointFeatures& left_points,
-                                     const StereoPoints& stereo_points, const features::LineMatchParams& match_params,
+                                     const std::vector<std::optional<Eigen::Vector3d>>& known_points,
+                                     const features::LineMatchParams& match_params,
                                      const geometry::TriangulationParams& params) {
   StereoLines out;
   out.right.assign(left_lines.size(), std::nullopt);
@@ -66,7 +77,7 @@ StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo,
       features::match_lines(left_association, right_association, stereo_matches, match_params);
   for (std::size_t l = 0; l < left_lines.size(); ++l) {
     const auto points_on_line =
-        two_points_on_line(left_lines[l], left_association.points_of_line[l], left_points, stereo_points);
+        two_points_on_line(left_lines[l], left_association.points_of_line[l], left_points, known_points);
     const int r = l < partner.size() ? partner[l] : -1;
     if (r >= 0) {
       const geometry::Segment2d right = to_segment(right_lines[static_cast<std::size_t>(r)]);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "features/lines/line_params.hpp"
 #include "features/lines/line_segment.hpp"
@@ -27,6 +28,12 @@ StereoPoints triangulate_stereo_points(const geometry::StereoCamera& stereo, con
                                        const features::PointFeatures& right, const features::PointMatches& matches,
                                        const geometry::TriangulationParams& params);
 
+// Per left keypoint, its 3D position in the left camera frame where one is known: the tracked map point's
+// (`tracked_world`, world frame, refined by earlier bundle adjustments) or else this keyframe's stereo one.
+std::vector<std::optional<Eigen::Vector3d>> known_points_in_camera(
+    const StereoPoints& stereo, const std::vector<std::optional<Eigen::Vector3d>>& tracked_world,
+    const Eigen::Isometry3d& T_world_camera);
+
 struct StereoLines {
   std::vector<std::optional<geometry::Segment2d>> right;                 // per left line
   std::vector<std::optional<geometry::PlueckerLine>> lines;             // per left line, left camera frame
@@ -35,14 +42,16 @@ struct StereoLines {
 
 // Matches left and right lines through the stereo point matches (paper eq. 2) and triangulates each left line:
 // from the two back-projected planes when it has a right partner, else (or when the planes are degenerate) from
-// two of its stereo-triangulated points (the two nearest the segment, as the paper prescribes).
+// two of its triangulated points (the two nearest the segment, as the paper prescribes). `known_points` holds,
+// per left keypoint, its 3D position in the left camera frame where one is known (see known_points_in_camera).
 StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo,
                                      const std::vector<features::LineSegment>& left_lines,
                                      const features::PointLineAssociation& left_association,
                                      const std::vector<features::LineSegment>& right_lines,
                                      const features::PointLineAssociation& right_association,
                                      const std::vector<int>& stereo_matches, const features::PointFeatures& left_points,
-                                     const StereoPoints& stereo_points, const features::LineMatchParams& match_params,
+                                     const std::vector<std::optional<Eigen::Vector3d>>& known_points,
+                                     const features::LineMatchParams& match_params,
                                      const geometry::TriangulationParams& params);
 
 geometry::Segment2d to_segment(const features::LineSegment& line);

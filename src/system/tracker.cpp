@@ -1,11 +1,14 @@
 #include "system/tracker.hpp"
 
+#include <cmath>
+
 #include <spdlog/spdlog.h>
 
 #include "backend/keyframe_decision.hpp"
 #include "backend/local_ba.hpp"
 #include "backend/pose_estimation.hpp"
 #include "features/lines/line_matching.hpp"
+#include "system/keyframe_lines.hpp"
 #include "system/stereo_keyframe.hpp"
 
 namespace vkvo::system {
@@ -133,6 +136,7 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
   const features::PointLineAssociation* reference_association = nullptr;
   if (const map::KeyFrame* kf = reference_keyframe != map::kInvalidId ? map_.keyframe(reference_keyframe) : nullptr) {
     reference = kf;
+    current.reference_keyframe = kf->id;
     keyframe_association = association_of(*kf);
     reference_association = &keyframe_association;
   } else if (matched_previous_frame && last_frame_) {
@@ -161,6 +165,7 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
       const Stopwatch watch;
       const auto line_partner = features::match_lines(current.association, *reference_association, m,
                                                       config_.lines.matching);
+      if (current.reference_keyframe != map::kInvalidId) current.reference_line_partner = line_partner;
       for (std::size_t l = 0; l < line_partner.size(); ++l) {
         if (line_partner[l] < 0) continue;
         const map::Id id = reference->line_ids[static_cast<std::size_t>(line_partner[l])];
@@ -260,34 +265,39 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     std::vector<int> gated(stereo_matches.matches0.size(), -1);  // only matches that passed the stereo gates
     for (std::size_t i = 0; i < gated.size(); ++i)
       if (stereo_points.positions[i]) gated[i] = stereo_matches.matches0[i];
-    stereo_lines = triangulate_stereo_lines(stereo_, input.lines, tracked.association, right_lines, right_association,
-                                            gated, input.points, stereo_points, config_.lines.matching,
-                                            config_.triangulation);
+    // The two-point fallback may use tracked map points as well as this keyframe's stereo points.
+    std::vector<std::optional<Eigen::Vector3d>> tracked_world(frame.point_ids.size());
+    for (std::size_t i = 0; i < tracked_world.size(); ++i)
+      if (const map::MapPoint* p = map_.point(frame.point_ids[i]); usable(p)) tracked_world[i] = p->position;
+    stereo_lines = triangulate_stereo_lines(
+        stereo_, input.lines, tracked.association, right_lines, right_association, gated, input.points,
+        known_points_in_camera(stereo_points, tracked_world, frame.T_world_camera), config_.lines.matching,
+        config_.triangulation);
     for (std::size_t l = 0; l < frame.lines.size(); ++l) frame.lines[l].right = stereo_lines.right[l];
   }
 
   const map::Id kf_id = map_.add_keyframe(frame).id;
   const Eigen::Isometry3d T = map_.keyframe(kf_id)->T_world_camera;
-  int new_points = 0, new_lines = 0;
+  int new_points = 0;
   for (std::size_t i = 0; i < stereo_points.positions.size(); ++i) {
     if (!stereo_points.positions[i] || map_.keyframe(kf_id)->point_ids[i] != map::kInvalidId) continue;
     const map::Id id = map_.add_point(T * *stereo_points.positions[i]);
     map_.add_point_observation(id, kf_id, static_cast<int>(i));
     ++new_points;
   }
-  for (std::size_t l = 0; l < stereo_lines.lines.size(); ++l) {
-    if (!stereo_lines.lines[l] || map_.keyframe(kf_id)->line_ids[l] != map::kInvalidId) continue;
-    const map::Id id = map_.add_line(geometry::transform_line(T, *stereo_lines.lines[l]));
-    map_.add_line_observation(id, kf_id, static_cast<int>(l));
-    map_.trim_line(id, stereo_.camera);
-    ++new_lines;
-  }
+  const KeyframeLineParams line_params{
+      config_.triangulation, config_.optimization.pixel_sigma * std::sqrt(config_.optimization.mono_line_chi2)};
+  const NewKeyframeLines new_lines =
+      add_keyframe_lines(map_, kf_id, stereo_lines, new_segment ? map::kInvalidId : tracked.reference_keyframe,
+                         tracked.reference_line_partner, stereo_.camera, line_params);
   if (!new_segment) {
     const auto ba = backend::local_bundle_adjustment(map_, kf_id, stereo_, config_.optimization);
     const auto [culled_points, culled_lines] = map_.cull(config_.map);
-    spdlog::debug("keyframe {} (frame {}): {} stereo matches, {} triangulated; +{} points +{} lines; BA window {} ({} fixed), outliers {}/{}, culled {}/{}", kf_id,
-                  input.index, stereo_matches.count(), stereo_points.count, new_points, new_lines, ba.window.size(), ba.fixed.size(), ba.point_outliers, ba.line_outliers,
-                  culled_points, culled_lines);
+    spdlog::debug("keyframe {} (frame {}): {} stereo matches, {} triangulated; +{} points, +{} lines ({} from two "
+                  "keyframes, {} seen by both); BA window {} ({} fixed), outliers {}/{}, culled {}/{}",
+                  kf_id, input.index, stereo_matches.count(), stereo_points.count, new_points, new_lines.added,
+                  new_lines.two_view, new_lines.seen_twice, ba.window.size(), ba.fixed.size(), ba.point_outliers,
+                  ba.line_outliers, culled_points, culled_lines);
   }
   tracked.frame = *map_.keyframe(kf_id);  // BA may have moved it; associations now include the new landmarks
   publish_reference(kf_id, input.points);

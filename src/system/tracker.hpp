@@ -57,6 +57,10 @@ class Tracker {
   struct Tracked {
     map::Frame frame;
     features::PointLineAssociation association;
+    // The keyframe the frame's points were matched against and, per line of the frame, its partner line there
+    // (-1: none). Unset when the reference was the previous frame or lines are off.
+    map::Id reference_keyframe = map::kInvalidId;
+    std::vector<int> reference_line_partner;
   };
 
   Tracked make_frame(const FrameInput& input, const Eigen::Isometry3d& pose, TimingReport& timing) const;

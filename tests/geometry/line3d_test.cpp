@@ -1,5 +1,6 @@
 // Pluecker / orthonormal lines: round trips, transforms, the projection matrix K_L against brute-force projection
 // of 3D points, endpoint trimming.
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -135,6 +136,29 @@ TEST(Line3d, TrimRecoversObservedExtent) {
     EXPECT_LT((E1 - (A + 0.1 * (B - A))).norm(), 1e-7);
     EXPECT_LT((E2 - (A + 0.7 * (B - A))).norm(), 1e-7);
   }
+}
+
+// The reprojection error is the larger perpendicular distance of the observed endpoints to the projected line:
+// exact segments give 0, endpoints moved off the line by 2 and 5 px along the image normal give 5.
+TEST(Line3d, ReprojectionErrorIsTheLargerEndpointDistance) {
+  std::mt19937 rng(9);
+  const PinholeCamera cam = test::test_stereo_camera().camera;
+  for (int i = 0; i < 30; ++i) {
+    const auto [A, B] = random_segment(rng, cam);
+    const Eigen::Isometry3d T = test::random_pose(rng, 1.0, 0.3);  // the camera at the origin is then T^-1
+    const PlueckerLine L_world = PlueckerLine::from_points(T * A, T * B);
+    const Eigen::Vector2d a = cam.project(A), b = cam.project(B);
+    LineObservation obs{T, Segment2d(a.x(), a.y(), b.x(), b.y())};
+    EXPECT_LT(line_reprojection_error(L_world, cam, obs), 1e-6);
+    const Eigen::Vector2d d = (b - a).normalized(), normal(-d.y(), d.x());
+    const Eigen::Vector2d a2 = a + 2.0 * normal + 7.0 * d, b2 = b - 5.0 * normal;  // sliding along it is free
+    obs.segment = Segment2d(a2.x(), a2.y(), b2.x(), b2.y());
+    EXPECT_NEAR(line_reprojection_error(L_world, cam, obs), 5.0, 1e-6);
+  }
+  // A line through the camera centre projects to a point: no distance is defined.
+  const PlueckerLine through_centre = PlueckerLine::from_points({0, 0, 1}, {0, 0, 3});
+  EXPECT_TRUE(std::isinf(line_reprojection_error(through_centre, cam, {Eigen::Isometry3d::Identity(),
+                                                                      Segment2d(300, 200, 400, 250)})));
 }
 
 }  // namespace

@@ -74,13 +74,36 @@ TEST(Triangulation, TwoViewLineFromPlanesExact) {
     const Eigen::Vector3d A = test::random_visible_point(rng, cam, T1, 1.0, 8.0);
     const Eigen::Vector3d B = test::random_visible_point(rng, cam, T1, 1.0, 8.0);
     if ((T2.inverse() * A).z() < 0.5 || (T2.inverse() * B).z() < 0.5 || (A - B).norm() < 0.5) continue;
-    const auto result = triangulate_line(cam, observe(cam, T1, A, B), observe(cam, T2, A, B), std::nullopt, params);
+    const LineObservation a = observe(cam, T1, A, B), b = observe(cam, T2, A, B);
+    const auto result = triangulate_line(cam, a, b, std::nullopt, params);
+    const auto gated = triangulate_two_view_line(cam, a, b, params);  // these depths all pass its gate
+    EXPECT_EQ(gated.has_value(), result.method != LineTriangulationMethod::failed);
     if (result.method == LineTriangulationMethod::failed) continue;  // degenerate geometry, checked below
     EXPECT_EQ(result.method, LineTriangulationMethod::planes);
     expect_same_line(result.line, PlueckerLine::from_points(A, B), 1e-7);
+    if (gated) expect_same_line(*gated, PlueckerLine::from_points(A, B), 1e-7);
     ++checked;
   }
   EXPECT_GT(checked, 200);
+}
+
+// triangulate_two_view_line's gates: refused along the motion (one plane twice) and beyond the depth gate of the
+// first view (its exact recovery is checked with TwoViewLineFromPlanesExact's scenes).
+TEST(Triangulation, TwoViewLineGated) {
+  const PinholeCamera cam = test::test_stereo_camera().camera;
+  TriangulationParams params;
+  params.max_depth = 20.0;
+  // The camera moves 0.5 m along the line's own direction: both views back-project to the same plane.
+  const Eigen::Vector3d A(-0.5, 0.3, 3.0), B(0.5, 0.3, 4.0);
+  Eigen::Isometry3d T2 = Eigen::Isometry3d::Identity();
+  T2.translation() = 0.5 * (B - A).normalized();
+  const LineObservation first = observe(cam, Eigen::Isometry3d::Identity(), A, B);
+  EXPECT_FALSE(triangulate_two_view_line(cam, first, observe(cam, T2, A, B), params));
+  // Sideways instead it is found; with the far end beyond max_depth it is refused.
+  T2.translation() = Eigen::Vector3d(0.0, 0.5, 0.0);
+  ASSERT_TRUE(triangulate_two_view_line(cam, first, observe(cam, T2, A, B), params));
+  params.max_depth = 3.5;
+  EXPECT_FALSE(triangulate_two_view_line(cam, first, observe(cam, T2, A, B), params));
 }
 
 TEST(Triangulation, StereoLineExact) {
