@@ -7,50 +7,24 @@
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
-#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_pipeline.h>
 #include <unistd.h>
 
-#include "features/lines/line_detector.hpp"
-#include "geometry/camera.hpp"
 #include "io/map_ply.hpp"
 #include "io/run_summary.hpp"
 #include "io/trajectory.hpp"
 #include "system/gap_bridge.hpp"
-#include "system/tracker.hpp"
+#include "system/stereo_odometry.hpp"
 
 namespace vkvo::system {
 namespace {
 
 using FramePtr = std::shared_ptr<FrameInput>;
 
-// The point task: left-image network, then matches against the last keyframe, or against the previous frame
-// when the keyframe gives fewer than `min_num_match`.
-void run_point_task(FrameInput& in, PointFrontend& frontend, const MatchReference& reference,
-                    const std::shared_ptr<const features::PointFeatures>& previous, int min_num_match) {
-  const Stopwatch pe;
-  in.points = frontend.detect(in.left);
-  in.pe_ms = pe.ms();
-  const Stopwatch pm;
-  if (reference.features) {
-    in.matches = frontend.match(in.points, *reference.features);
-    in.reference_keyframe = reference.keyframe;
-  }
-  if (previous && static_cast<int>(in.matches.count()) < min_num_match) {
-    auto to_previous = frontend.match(in.points, *previous);
-    if (to_previous.count() > in.matches.count()) {
-      in.matches = std::move(to_previous);
-      in.reference_keyframe = map::kInvalidId;
-      in.matched_previous_frame = true;
-    }
-  }
-  in.pm_ms = pm.ms();
-}
-
 class Progress {
  public:
   Progress(std::size_t total, bool enabled) : total_(total), enabled_(enabled), tty_(isatty(fileno(stderr)) != 0) {}
-  void update(std::size_t done, int keyframes, const TrackResult& r) {
+  void update(std::size_t done, int keyframes, const OdometryPose& r) {
     if (!enabled_) return;
     const double fps = double(done) / std::max(1e-9, watch_.ms() * 1e-3);
     const auto text = fmt::format("[{:>5}/{}] {:5.1f} frames/s | keyframes {:>4} | tracked points {:>4} lines {:>3}{}",
@@ -93,12 +67,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   result.keyframes_file = options.output_dir / "keyframes.txt";
   result.summary = options.output_dir / "summary.json";
 
-  const geometry::StereoRig rig(dataset.calibration());
-  // World frame = the original (unrectified) left camera of the first frame; poses are written for that camera.
-  const Eigen::Isometry3d T_rawleft_rect = rig.T_rawleft_rectified();
-  const Eigen::Isometry3d T_rect_rawleft = T_rawleft_rect.inverse();
-  Tracker tracker(config, rig.stereo(), stereo_frontend, T_rawleft_rect);
-  const features::LineDetector line_detector(config.lines.detector);
+  StereoOdometry odometry(config, dataset.calibration(), feature_frontend, stereo_frontend);
   io::TumTrajectoryWriter trajectory(result.trajectory);
   io::TumTrajectoryWriter keyframes(result.keyframes_file);
   std::vector<Eigen::Vector3d> centres;
@@ -117,7 +86,6 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   const auto start = std::chrono::steady_clock::now();
   const double first_timestamp = dataset.empty() ? 0.0 : dataset.frame(0).timestamp_s;
   std::size_t next = 0;
-  std::shared_ptr<const features::PointFeatures> previous;
   Stopwatch since_last_output;
 
   auto read = [&](tbb::flow_control& control) -> FramePtr {
@@ -127,21 +95,21 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
     }
     auto in = std::make_shared<FrameInput>();
     const auto& frame = dataset.frame(next);
-    in->index = next;
-    in->sequence_index = frame.sequence_index;
-    in->timestamp_ns = frame.timestamp_ns;
-    in->timestamp_s = frame.timestamp_s;
     if (options.realtime) {
       const auto due = start + std::chrono::duration<double>(frame.timestamp_s - first_timestamp);
       std::this_thread::sleep_until(due);
     }
     try {
       const auto images = dataset.load(next);
-      rig.rectify(images.left, images.right, in->left, in->right);
+      *in = odometry.prepare(images.left, images.right, frame.timestamp_ns, next);
     } catch (const std::exception& e) {
       spdlog::error("frame {} skipped: {}", next, e.what());
       in->read_failed = true;
     }
+    in->index = next;
+    in->sequence_index = frame.sequence_index;
+    in->timestamp_ns = frame.timestamp_ns;
+    in->timestamp_s = frame.timestamp_s;  // as the dataset gives it (KITTI: times.txt's seconds)
     ++next;
     return in;
   };
@@ -149,16 +117,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   auto features = [&](FramePtr in) -> FramePtr {
     if (in->read_failed) return in;
     try {
-      const MatchReference reference = tracker.reference();
-      tbb::parallel_invoke(
-          [&] { run_point_task(*in, feature_frontend, reference, previous, config.tracking.min_num_match); },
-          [&] {
-            if (!config.tracking.use_lines) return;
-            const Stopwatch le;
-            in->lines = line_detector.detect(in->left);
-            in->le_ms = le.ms();
-          });
-      previous = std::make_shared<const features::PointFeatures>(in->points);
+      odometry.extract_features(*in);
     } catch (const std::exception& e) {
       spdlog::error("frame {}: feature stage failed: {}", in->index, e.what());
       in->read_failed = true;
@@ -171,20 +130,16 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
       ++result.frames_skipped;
       return;
     }
-    result.timing.add(Module::PE, in->pe_ms);
-    if (in->le_ms > 0) result.timing.add(Module::LE, in->le_ms);
-    if (in->pm_ms > 0) result.timing.add(Module::PM, in->pm_ms);
-    TrackResult r;
+    OdometryPose r;
     try {
-      r = tracker.track(*in, result.timing);
+      r = odometry.optimise(*in);
     } catch (const std::exception& e) {
       spdlog::error("frame {}: optimisation stage failed: {}", in->index, e.what());
       ++result.frames_skipped;
       return;
     }
-    const Eigen::Isometry3d T_world_cam0 = r.T_world_camera * T_rect_rawleft;
-    write_poses(gap_bridge.push({.timestamp_ns = in->timestamp_ns, .T_world_camera = T_world_cam0, .tracked = r.tracked}));
-    if (r.keyframe) keyframes.write_ns(in->timestamp_ns, T_world_cam0);
+    write_poses(gap_bridge.push({.timestamp_ns = in->timestamp_ns, .T_world_camera = r.T_world_camera, .tracked = r.tracked}));
+    if (r.keyframe) keyframes.write_ns(in->timestamp_ns, r.T_world_camera);
     ++result.frames;
     if (r.tracked)
       ++result.frames_tracked;
@@ -193,7 +148,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
     result.last_frame_tracked = r.tracked;
     result.timing.add(Module::Frame, since_last_output.ms());
     since_last_output = Stopwatch();
-    progress.update(result.frames + result.frames_skipped, tracker.keyframes(), r);
+    progress.update(result.frames + result.frames_skipped, odometry.keyframes(), r);
   };
 
   tbb::parallel_pipeline(static_cast<std::size_t>(config.tracking.queue_capacity) + 1,
@@ -204,10 +159,11 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   result.frames_bridged = gap_bridge.frames_bridged();
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  const auto& map = tracker.map();
-  result.keyframes = tracker.keyframes();
-  result.tracking_losses = tracker.tracking_losses();
-  result.segments = tracker.segments();
+  result.timing.merge(odometry.timing());  // the modules' samples; the run's own are the Frame ones
+  const auto& map = odometry.map();
+  result.keyframes = odometry.keyframes();
+  result.tracking_losses = odometry.tracking_losses();
+  result.segments = odometry.segments();
   result.map_points = map.points().size();
   result.map_lines = map.lines().size();
   io::write_map_ply(options.output_dir / "map.ply", map_geometry(map, centres));

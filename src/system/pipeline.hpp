@@ -2,7 +2,8 @@
 // The threaded VO (paper Fig. 2): a reader, the feature stage and the optimisation stage joined by TBB's bounded
 // pipeline. Per frame the feature stage runs the point task (network on the Vulkan device + matching against the
 // last keyframe, falling back to the previous frame) and the line task (CPU) in parallel; the optimisation stage
-// is the Tracker. Outputs are written as they are produced.
+// is the Tracker. The stages are StereoOdometry's (system/stereo_odometry.hpp: the same VO for live input); this
+// adds the dataset reader, the overlap of the stages and the outputs, written as they are produced.
 #include <atomic>
 #include <filesystem>
 #include <functional>

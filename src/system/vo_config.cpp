@@ -62,6 +62,12 @@ VoConfig load_vo_config(const io::Config& config) {
 
 VoConfig load_vo_config(const std::filesystem::path& file) { return load_vo_config(io::Config::load(file)); }
 
+io::StereoCalibration config_calibration(const VoConfig& config) {
+  io::StereoCalibration calibration = io::apply_camera_overrides(config.dataset.camera_overrides, {});
+  io::validate_calibration(calibration, config.origin.string() + " (camera section)");
+  return calibration;
+}
+
 VoConfig scale_to_image(const VoConfig& config, int width, int height) {
   VoConfig scaled = config;
   const double reference = config.tracking.reference_image_area;

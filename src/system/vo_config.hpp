@@ -68,4 +68,9 @@ VoConfig load_vo_config(const io::Config& config);
 VoConfig scale_to_image(const VoConfig& config, int width, int height);
 VoConfig load_vo_config(const std::filesystem::path& file);
 
+// The stereo calibration that the config's `camera:` section gives on its own (its `kalibr` file, or the cameras'
+// keys: see io::apply_camera_overrides), for input without a dataset's calibration files, such as StereoOdometry
+// fed by a live camera. Throws std::runtime_error naming the config file and the first missing or invalid field.
+io::StereoCalibration config_calibration(const VoConfig& config);
+
 }  // namespace vkvo::system

@@ -83,5 +83,24 @@ TEST(VoConfig, EverySectionIsCheckedAtLoad) {
   EXPECT_EQ(io::apply_camera_overrides(config.dataset.camera_overrides, {}).left.fx, 400.0);
 }
 
+// A live camera has no dataset calibration files: the camera section alone gives the calibration, or an error that
+// names the config and the missing field.
+TEST(VoConfig, CameraSectionAloneGivesTheCalibration) {
+  const VoConfig config = load_vo_config(io::Config::from_string(
+      "camera: {width: 640, height: 480, fx: 400, fy: 410, cx: 320, cy: 240, baseline: 0.12}\n", "robot.yaml"));
+  const io::StereoCalibration c = config_calibration(config);
+  EXPECT_TRUE(c.rectified);
+  EXPECT_EQ(c.right.width, 640);
+  EXPECT_EQ(c.left.fy, 410.0);
+  EXPECT_NEAR(c.baseline(), 0.12, 1e-12);
+  EXPECT_NEAR(c.T_left_right().translation().x(), 0.12, 1e-12);
+
+  const std::string missing = test::error_of([] {
+    config_calibration(load_vo_config(io::Config::from_string("camera: {width: 640, height: 480, fx: 400}\n",
+                                                              "robot.yaml")));
+  });
+  EXPECT_NE(missing.find("robot.yaml (camera section): left camera: field 'fy'"), std::string::npos) << missing;
+}
+
 }  // namespace
 }  // namespace vkvo::system

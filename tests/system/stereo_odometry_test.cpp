@@ -1,0 +1,129 @@
+// The VO for live input (StereoOdometry): raw pairs pushed one at a time with the oracle point frontend (no GPU),
+// poses against the truth of the synthetic scene, the input checks, and the copy that protects a caller's buffers.
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "system/oracle_frontend.hpp"
+#include "system/stereo_odometry.hpp"
+
+namespace vkvo::system {
+namespace {
+
+// The scene's rectified stereo camera as a calibration (KITTI-like: rectified, right camera at +baseline in x).
+io::StereoCalibration calibration_of(const geometry::StereoCamera& stereo) {
+  io::StereoCalibration c;
+  const auto& k = stereo.camera;
+  c.left = {.width = k.width, .height = k.height, .fx = k.fx, .fy = k.fy, .cx = k.cx, .cy = k.cy};
+  c.right = c.left;
+  c.right.T_body_camera.translation() = Eigen::Vector3d(stereo.baseline, 0, 0);
+  c.rectified = true;
+  return c;
+}
+
+VoConfig points_only_config() {
+  VoConfig config;
+  config.tracking.use_lines = false;  // the oracle's images have no lines
+  config.triangulation.max_depth = 20.0;
+  return config;
+}
+
+struct LiveRun {
+  explicit LiveRun(int frames)
+      : scene(test::SyntheticScene::make(frames, 600, 21)),
+        feature_oracle(scene, 0.0, 1),
+        stereo_oracle(scene, 0.0, 2),
+        odometry(points_only_config(), calibration_of(scene.stereo), feature_oracle, stereo_oracle) {}
+  static std::int64_t timestamp_ns(int frame) { return 1'000'000'000LL + 50'000'000LL * frame; }
+  OdometryPose track(int frame) {
+    return odometry.track(feature_oracle.image(frame, false), feature_oracle.image(frame, true), timestamp_ns(frame));
+  }
+  // The true pose of frame f in the odometry's world (the first frame's left camera).
+  Eigen::Isometry3d truth(int frame) const { return scene.T_world_left[0].inverse() * scene.T_world_left[frame]; }
+
+  test::SyntheticScene scene;
+  test::OracleFrontend feature_oracle, stereo_oracle;
+  StereoOdometry odometry;
+};
+
+TEST(StereoOdometry, TracksPairsPushedOneAtATime) {
+  constexpr int kFrames = 30;
+  LiveRun run(kFrames);
+  int keyframes = 0;
+  for (int f = 0; f < kFrames; ++f) {
+    const OdometryPose pose = run.track(f);
+    ASSERT_TRUE(pose.tracked) << "frame " << f;
+    EXPECT_EQ(pose.timestamp_ns, LiveRun::timestamp_ns(f));
+    EXPECT_EQ(pose.new_segment, f == 0);
+    keyframes += pose.keyframe;
+    EXPECT_LT((pose.T_world_camera.translation() - run.truth(f).translation()).norm(), 2e-3) << "frame " << f;
+    const Eigen::AngleAxisd rotation_error(pose.T_world_camera.linear().transpose() * run.truth(f).linear());
+    EXPECT_LT(rotation_error.angle(), 1e-3) << "frame " << f;
+    if (f > 0) {
+      EXPECT_GT(pose.tracked_points, 100) << "frame " << f;
+    }
+  }
+  EXPECT_GE(keyframes, 2);
+  EXPECT_EQ(run.odometry.keyframes(), keyframes);
+  EXPECT_EQ(run.odometry.tracking_losses(), 0);
+  EXPECT_EQ(run.odometry.segments(), 1);
+  EXPECT_FALSE(run.odometry.map().points().empty());
+  // Every frame's left image and every keyframe's right image ran the network.
+  EXPECT_EQ(run.odometry.timing().stats(Module::PE).samples, static_cast<std::size_t>(kFrames + keyframes));
+  EXPECT_EQ(run.odometry.timing().stats(Module::IPE).samples, static_cast<std::size_t>(kFrames - 1));
+}
+
+// Unusable images are refused with what is wrong, and leave the odometry as it was: the next good pair is still
+// its first frame.
+TEST(StereoOdometry, RefusesUnusableImagesWithoutChangingState) {
+  LiveRun run(3);
+  const cv::Mat left = run.feature_oracle.image(0, false), right = run.feature_oracle.image(0, true);
+  auto message = [&](const cv::Mat& l, const cv::Mat& r) -> std::string {
+    try {
+      run.odometry.track(l, r, 0);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message(cv::Mat(), right), "stereo odometry: the left image is empty");
+  const std::string size = message(left, cv::Mat(50, 100, CV_8UC1, cv::Scalar(0)));
+  EXPECT_NE(size.find("the right image is 100x50, the calibration's"), std::string::npos) << size;
+  cv::Mat deep;
+  left.convertTo(deep, CV_16U);
+  EXPECT_NE(message(deep, right).find("8-bit grey or BGR is needed"), std::string::npos);
+  EXPECT_EQ(run.odometry.timing().stats(Module::PE).samples, 0u);
+
+  const OdometryPose first = run.track(0);
+  EXPECT_TRUE(first.tracked);
+  EXPECT_TRUE(first.new_segment);
+}
+
+// Colour input is converted to grey: the same poses as the grey images.
+TEST(StereoOdometry, BgrPairsGiveTheSamePosesAsGrey) {
+  LiveRun grey(12), colour(12);
+  for (int f = 0; f < 12; ++f) {
+    cv::Mat left, right;
+    cv::cvtColor(colour.feature_oracle.image(f, false), left, cv::COLOR_GRAY2BGR);
+    cv::cvtColor(colour.feature_oracle.image(f, true), right, cv::COLOR_GRAY2BGR);
+    const OdometryPose a = grey.track(f);
+    const OdometryPose b = colour.odometry.track(left, right, LiveRun::timestamp_ns(f));
+    ASSERT_TRUE(b.tracked) << "frame " << f;
+    EXPECT_TRUE(a.T_world_camera.isApprox(b.T_world_camera, 1e-12)) << "frame " << f;
+  }
+}
+
+// A camera driver may refill its buffer while the frame is still in the pipeline: prepare keeps its own pixels
+// even where rectification has nothing to remap.
+TEST(StereoOdometry, PrepareKeepsItsOwnCopyOfThePixels) {
+  LiveRun run(1);
+  cv::Mat left = run.feature_oracle.image(0, false).clone(), right = run.feature_oracle.image(0, true).clone();
+  const cv::Mat original = left.clone();
+  const FrameInput in = run.odometry.prepare(left, right, 7, 3);
+  left.setTo(cv::Scalar(255));
+  EXPECT_EQ(cv::norm(in.left, original, cv::NORM_INF), 0.0);
+  EXPECT_EQ(in.index, 3u);
+  EXPECT_EQ(in.timestamp_ns, 7);
+}
+
+}  // namespace
+}  // namespace vkvo::system
