@@ -1,8 +1,13 @@
-// The VO for live input (StereoOdometry): raw pairs pushed one at a time with the oracle point frontend (no GPU),
-// poses against the truth of the synthetic scene, the input checks, and the copy that protects a caller's buffers.
+// The VO for live input (StereoOdometry, and OdometryStream's two threads): raw pairs pushed one at a time with the
+// oracle point frontend (no GPU), poses against the truth of the synthetic scene, the input checks, the copy that
+// protects a caller's buffers, and the stream's order and queue policies.
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <atomic>
+#include <latch>
+
+#include "system/odometry_stream.hpp"
 #include "system/oracle_frontend.hpp"
 #include "system/stereo_odometry.hpp"
 
@@ -123,6 +128,84 @@ TEST(StereoOdometry, PrepareKeepsItsOwnCopyOfThePixels) {
   EXPECT_EQ(cv::norm(in.left, original, cv::NORM_INF), 0.0);
   EXPECT_EQ(in.index, 3u);
   EXPECT_EQ(in.timestamp_ns, 7);
+}
+
+// The stream overlaps the stages on two threads and hands every pose back in push order, next to the truth.
+TEST(OdometryStream, DeliversEveryPoseInOrderNearTheTruth) {
+  constexpr int kFrames = 30;
+  LiveRun run(kFrames);
+  std::vector<OdometryPose> poses;
+  {
+    OdometryStream stream(run.odometry, [&](const OdometryPose& pose) { poses.push_back(pose); });
+    for (int f = 0; f < kFrames; ++f)
+      stream.push(run.feature_oracle.image(f, false), run.feature_oracle.image(f, true), LiveRun::timestamp_ns(f));
+    stream.finish();
+    EXPECT_EQ(stream.pushed(), static_cast<std::size_t>(kFrames));
+    EXPECT_EQ(stream.dropped(), 0u);
+    EXPECT_EQ(stream.failed(), 0u);
+  }
+  ASSERT_EQ(poses.size(), static_cast<std::size_t>(kFrames));
+  for (int f = 0; f < kFrames; ++f) {
+    EXPECT_EQ(poses[f].timestamp_ns, LiveRun::timestamp_ns(f));
+    EXPECT_TRUE(poses[f].tracked) << "frame " << f;
+    EXPECT_LT((poses[f].T_world_camera.translation() - run.truth(f).translation()).norm(), 2e-3) << "frame " << f;
+  }
+}
+
+// A point frontend whose first detection waits until the test lets it go: a device busy for as long as the test
+// needs to push pairs behind it.
+class HeldFrontend final : public PointFrontend {
+ public:
+  explicit HeldFrontend(PointFrontend& inner) : inner_(&inner) {}
+  features::PointFeatures detect(const cv::Mat& gray) override {
+    if (!started_.exchange(true)) {
+      entered_.count_down();
+      released_.wait();
+    }
+    return inner_->detect(gray);
+  }
+  features::PointMatches match(const features::PointFeatures& a, const features::PointFeatures& b) override {
+    return inner_->match(a, b);
+  }
+  void wait_until_busy() { entered_.wait(); }
+  void release() { released_.count_down(); }
+
+ private:
+  PointFrontend* inner_;
+  std::atomic<bool> started_ = false;
+  std::latch entered_{1}, released_{1};
+};
+
+// A camera faster than the VO: while the device is busy with frame 0, frames 1-19 arrive at a queue of one with
+// drop_oldest, so each one pushes out the one before: 18 dropped, the newest (19) kept, and the answers (0, 19)
+// in time order. An unusable pair is refused at push and the stream goes on; a push after finish is an error.
+TEST(OdometryStream, DropsTheOldestPairsWhenTheCameraOutpacesIt) {
+  constexpr int kFrames = 20;
+  const test::SyntheticScene scene = test::SyntheticScene::make(kFrames, 600, 21);
+  test::OracleFrontend oracle(scene, 0.0, 1), stereo_oracle(scene, 0.0, 2);
+  HeldFrontend held(oracle);
+  StereoOdometry odometry(points_only_config(), calibration_of(scene.stereo), held, stereo_oracle);
+  std::vector<OdometryPose> poses;
+  OdometryStream stream(odometry, [&](const OdometryPose& pose) { poses.push_back(pose); },
+                        {.queue_capacity = 1, .when_full = QueueFull::drop_oldest});
+  auto push = [&](int f) { stream.push(oracle.image(f, false), oracle.image(f, true), LiveRun::timestamp_ns(f)); };
+  push(0);
+  held.wait_until_busy();
+  for (int f = 1; f < kFrames; ++f) push(f);
+  EXPECT_THROW(stream.push(cv::Mat(), oracle.image(0, true), 0), std::invalid_argument);
+  held.release();
+  stream.finish();
+  EXPECT_THROW(push(0), std::logic_error);
+
+  EXPECT_EQ(stream.pushed(), static_cast<std::size_t>(kFrames));
+  EXPECT_EQ(stream.dropped(), static_cast<std::size_t>(kFrames - 2));
+  EXPECT_EQ(stream.failed(), 0u);
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_EQ(poses[0].timestamp_ns, LiveRun::timestamp_ns(0));
+  EXPECT_EQ(poses[1].timestamp_ns, LiveRun::timestamp_ns(kFrames - 1));
+  EXPECT_TRUE(poses[1].tracked);  // 19 frames on, the oracle's scene is still in view
+  const Eigen::Isometry3d truth = scene.T_world_left[0].inverse() * scene.T_world_left[kFrames - 1];
+  EXPECT_LT((poses[1].T_world_camera.translation() - truth.translation()).norm(), 2e-3);
 }
 
 }  // namespace

@@ -1,0 +1,76 @@
+#include "system/odometry_stream.hpp"
+
+#include <stdexcept>
+
+#include <spdlog/spdlog.h>
+
+namespace vkvo::system {
+
+OdometryStream::OdometryStream(StereoOdometry& odometry, PoseCallback on_pose, StreamOptions options)
+    : odometry_(&odometry), on_pose_(std::move(on_pose)), when_full_(options.when_full) {
+  if (options.queue_capacity == 0) throw std::invalid_argument("odometry stream: queue_capacity must be at least 1");
+  waiting_.set_capacity(static_cast<std::ptrdiff_t>(options.queue_capacity));
+  featured_.set_capacity(1);  // the optimisation stage works on one frame while the next one's features run
+  feature_thread_ = std::thread([this] { run_features(); });
+  optimisation_thread_ = std::thread([this] { run_optimisation(); });
+}
+
+OdometryStream::~OdometryStream() { finish(); }
+
+void OdometryStream::push(const cv::Mat& left, const cv::Mat& right, std::int64_t timestamp_ns) {
+  if (finished_) throw std::logic_error("odometry stream: push after finish");
+  auto frame = std::make_shared<FrameInput>(odometry_->prepare(left, right, timestamp_ns, pushed_));
+  ++pushed_;
+  if (when_full_ == QueueFull::block) {
+    waiting_.push(std::move(frame));
+    return;
+  }
+  while (!waiting_.try_push(frame)) {
+    FramePtr oldest;
+    if (waiting_.try_pop(oldest)) {
+      ++dropped_;
+      spdlog::debug("odometry stream: queue full, frame {} dropped", oldest->index);
+    }
+  }
+}
+
+void OdometryStream::finish() {
+  if (finished_) return;
+  finished_ = true;
+  waiting_.push(nullptr);
+  feature_thread_.join();
+  optimisation_thread_.join();
+}
+
+void OdometryStream::run_features() {
+  for (;;) {
+    FramePtr frame;
+    waiting_.pop(frame);
+    if (!frame) break;
+    try {
+      odometry_->extract_features(*frame);
+    } catch (const std::exception& e) {
+      ++failed_;
+      spdlog::error("frame {}: feature stage failed: {}", frame->index, e.what());
+      continue;
+    }
+    featured_.push(std::move(frame));
+  }
+  featured_.push(nullptr);
+}
+
+void OdometryStream::run_optimisation() {
+  for (;;) {
+    FramePtr frame;
+    featured_.pop(frame);
+    if (!frame) break;
+    try {
+      on_pose_(odometry_->optimise(*frame));
+    } catch (const std::exception& e) {
+      ++failed_;
+      spdlog::error("frame {}: optimisation stage or pose callback failed: {}", frame->index, e.what());
+    }
+  }
+}
+
+}  // namespace vkvo::system
