@@ -53,9 +53,11 @@ class StereoOdometry {
   OdometryPose optimise(const FrameInput& frame);
 
   const geometry::StereoRig& rig() const { return rig_; }
+  // The map, the timing and the counts below belong to the optimisation stage: read them on its thread (e.g. in
+  // OdometryStream's callback) or while no frame is being optimised.
   const map::Map& map() const { return tracker_.map(); }
   // PE, LE, PM from the feature stage and LM, IPE, BA from the optimisation stage, one sample per frame that ran
-  // the module; filled by optimise (so read it from the optimisation stage's thread, or after the last frame).
+  // the module (filled by optimise).
   const TimingReport& timing() const { return timing_; }
   int keyframes() const { return tracker_.keyframes(); }
   int tracking_losses() const { return tracker_.tracking_losses(); }
