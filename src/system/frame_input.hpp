@@ -13,8 +13,7 @@
 namespace vkvo::system {
 
 struct FrameInput {
-  std::size_t index = 0;            // position in the processed sequence
-  std::size_t sequence_index = 0;   // position in the dataset
+  std::size_t index = 0;            // position in the processed sequence (or the caller's stream)
   std::int64_t timestamp_ns = 0;
   double timestamp_s = 0;
   cv::Mat left, right;              // rectified 8-bit images (right: used when the frame becomes a keyframe)
@@ -28,7 +27,6 @@ struct FrameInput {
   bool matched_previous_frame = false;
 
   double pe_ms = 0, le_ms = 0, pm_ms = 0;  // feature-stage timings
-  bool read_failed = false;                 // the images could not be read: the frame is skipped, not fatal
 };
 
 }  // namespace vkvo::system

@@ -17,9 +17,11 @@ OdometryStream::OdometryStream(StereoOdometry& odometry, PoseCallback on_pose, S
 
 OdometryStream::~OdometryStream() { finish(); }
 
-void OdometryStream::push(const cv::Mat& left, const cv::Mat& right, std::int64_t timestamp_ns) {
+void OdometryStream::push(const cv::Mat& left, const cv::Mat& right, std::int64_t timestamp_ns,
+                          std::optional<std::size_t> frame_index) {
   if (finished_) throw std::logic_error("odometry stream: push after finish");
-  auto frame = std::make_shared<FrameInput>(odometry_->prepare(left, right, timestamp_ns, pushed_));
+  auto frame =
+      std::make_shared<FrameInput>(odometry_->prepare(left, right, timestamp_ns, frame_index.value_or(pushed_)));
   ++pushed_;
   if (when_full_ == QueueFull::block) {
     waiting_.push(std::move(frame));

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include <opencv2/core.hpp>
@@ -40,7 +41,9 @@ class OdometryStream {
   // Checks, converts and rectifies the pair on the caller's thread (StereoOdometry::prepare, which copies the
   // pixels: the caller may reuse its buffers at once), then queues it. An unusable image throws
   // std::invalid_argument here and nothing is queued. Pushing after finish() throws std::logic_error.
-  void push(const cv::Mat& left, const cv::Mat& right, std::int64_t timestamp_ns);
+  // `frame_index` numbers the pair in logs and in its OdometryPose (default: the count of pairs pushed before).
+  void push(const cv::Mat& left, const cv::Mat& right, std::int64_t timestamp_ns,
+            std::optional<std::size_t> frame_index = std::nullopt);
 
   // Processes every queued pair, calls back for each, and ends the threads. Idempotent.
   void finish();

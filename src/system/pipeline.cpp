@@ -1,5 +1,6 @@
 #include "system/pipeline.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -7,19 +8,17 @@
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
-#include <tbb/parallel_pipeline.h>
 #include <unistd.h>
 
 #include "io/map_ply.hpp"
 #include "io/run_summary.hpp"
 #include "io/trajectory.hpp"
 #include "system/gap_bridge.hpp"
+#include "system/odometry_stream.hpp"
 #include "system/stereo_odometry.hpp"
 
 namespace vkvo::system {
 namespace {
-
-using FramePtr = std::shared_ptr<FrameInput>;
 
 class Progress {
  public:
@@ -85,76 +84,46 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   Progress progress(dataset.size(), options.progress);
   const auto start = std::chrono::steady_clock::now();
   const double first_timestamp = dataset.empty() ? 0.0 : dataset.frame(0).timestamp_s;
-  std::size_t next = 0;
+  std::atomic<std::size_t> unreadable = 0;  // pairs skipped before the stages (image missing, corrupt, wrong size)
   Stopwatch since_last_output;
 
-  auto read = [&](tbb::flow_control& control) -> FramePtr {
-    if (next >= dataset.size() || (options.stop && options.stop->load())) {
-      control.stop();
-      return nullptr;
-    }
-    auto in = std::make_shared<FrameInput>();
-    const auto& frame = dataset.frame(next);
-    if (options.realtime) {
-      const auto due = start + std::chrono::duration<double>(frame.timestamp_s - first_timestamp);
-      std::this_thread::sleep_until(due);
-    }
-    try {
-      const auto images = dataset.load(next);
-      *in = odometry.prepare(images.left, images.right, frame.timestamp_ns, next);
-    } catch (const std::exception& e) {
-      spdlog::error("frame {} skipped: {}", next, e.what());
-      in->read_failed = true;
-    }
-    in->index = next;
-    in->sequence_index = frame.sequence_index;
-    in->timestamp_ns = frame.timestamp_ns;
-    in->timestamp_s = frame.timestamp_s;  // as the dataset gives it (KITTI: times.txt's seconds)
-    ++next;
-    return in;
-  };
-
-  auto features = [&](FramePtr in) -> FramePtr {
-    if (in->read_failed) return in;
-    try {
-      odometry.extract_features(*in);
-    } catch (const std::exception& e) {
-      spdlog::error("frame {}: feature stage failed: {}", in->index, e.what());
-      in->read_failed = true;
-    }
-    return in;
-  };
-
-  auto optimise = [&](FramePtr in) {
-    if (in->read_failed) {
-      ++result.frames_skipped;
-      return;
-    }
-    OdometryPose r;
-    try {
-      r = odometry.optimise(*in);
-    } catch (const std::exception& e) {
-      spdlog::error("frame {}: optimisation stage failed: {}", in->index, e.what());
-      ++result.frames_skipped;
-      return;
-    }
-    write_poses(gap_bridge.push({.timestamp_ns = in->timestamp_ns, .T_world_camera = r.T_world_camera, .tracked = r.tracked}));
-    if (r.keyframe) keyframes.write_ns(in->timestamp_ns, r.T_world_camera);
+  // On the optimisation thread, for every frame the stages got through.
+  auto on_pose = [&](const OdometryPose& r) {
+    write_poses(gap_bridge.push({.timestamp_ns = r.timestamp_ns, .T_world_camera = r.T_world_camera, .tracked = r.tracked}));
+    if (r.keyframe) keyframes.write_ns(r.timestamp_ns, r.T_world_camera);
     ++result.frames;
     if (r.tracked)
       ++result.frames_tracked;
     else
-      result.untracked_frames.push_back(in->index);
+      result.untracked_frames.push_back(r.frame_index);
     result.last_frame_tracked = r.tracked;
     result.timing.add(Module::Frame, since_last_output.ms());
     since_last_output = Stopwatch();
-    progress.update(result.frames + result.frames_skipped, odometry.keyframes(), r);
+    progress.update(result.frames + unreadable, odometry.keyframes(), r);
   };
 
-  tbb::parallel_pipeline(static_cast<std::size_t>(config.tracking.queue_capacity) + 1,
-                         tbb::make_filter<void, FramePtr>(tbb::filter_mode::serial_in_order, read) &
-                             tbb::make_filter<FramePtr, FramePtr>(tbb::filter_mode::serial_in_order, features) &
-                             tbb::make_filter<FramePtr, void>(tbb::filter_mode::serial_in_order, optimise));
+  {
+    // The reader is this thread; the stream's threads run the feature and the optimisation stage.
+    OdometryStream stream(odometry, on_pose,
+                          {.queue_capacity = static_cast<std::size_t>(config.tracking.queue_capacity),
+                           .when_full = QueueFull::block});
+    for (std::size_t next = 0; next < dataset.size() && !(options.stop && options.stop->load()); ++next) {
+      const auto& frame = dataset.frame(next);
+      if (options.realtime) {
+        const auto due = start + std::chrono::duration<double>(frame.timestamp_s - first_timestamp);
+        std::this_thread::sleep_until(due);
+      }
+      try {
+        const auto images = dataset.load(next);
+        stream.push(images.left, images.right, frame.timestamp_ns, next);
+      } catch (const std::exception& e) {
+        spdlog::error("frame {} skipped: {}", next, e.what());
+        ++unreadable;
+      }
+    }
+    stream.finish();
+    result.frames_skipped = unreadable + stream.failed();
+  }
   write_poses(gap_bridge.flush());  // a gap still open at the end keeps its predicted poses
   result.frames_bridged = gap_bridge.frames_bridged();
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,9 +1,9 @@
 #pragma once
-// The threaded VO (paper Fig. 2): a reader, the feature stage and the optimisation stage joined by TBB's bounded
-// pipeline. Per frame the feature stage runs the point task (network on the Vulkan device + matching against the
-// last keyframe, falling back to the previous frame) and the line task (CPU) in parallel; the optimisation stage
-// is the Tracker. The stages are StereoOdometry's (system/stereo_odometry.hpp: the same VO for live input); this
-// adds the dataset reader, the overlap of the stages and the outputs, written as they are produced.
+// The threaded VO (paper Fig. 2) on a dataset: this thread reads and queues the pairs, OdometryStream's two threads
+// run the feature stage (the point task on the Vulkan device + matching against the last keyframe, falling back to
+// the previous frame, in parallel with the line task on the CPU) and the optimisation stage (the Tracker), joined by
+// bounded TBB queues. It is the VO a live camera gets (system/odometry_stream.hpp), plus the dataset reader and the
+// outputs, written as they are produced.
 #include <atomic>
 #include <filesystem>
 #include <functional>

@@ -66,7 +66,6 @@ FrameInput StereoOdometry::prepare(const cv::Mat& left, const cv::Mat& right, st
                                    std::size_t index) const {
   FrameInput in;
   in.index = index;
-  in.sequence_index = index;
   in.timestamp_ns = timestamp_ns;
   in.timestamp_s = static_cast<double>(timestamp_ns) * 1e-9;
   rig_.rectify(grey_image(left, "left", rig_.image_size()), grey_image(right, "right", rig_.image_size()), in.left,
@@ -95,7 +94,8 @@ OdometryPose StereoOdometry::optimise(const FrameInput& in) {
   if (in.le_ms > 0) timing_.add(Module::LE, in.le_ms);
   if (in.pm_ms > 0) timing_.add(Module::PM, in.pm_ms);
   const TrackResult r = tracker_.track(in, timing_);
-  return {.timestamp_ns = in.timestamp_ns,
+  return {.frame_index = in.index,
+          .timestamp_ns = in.timestamp_ns,
           .T_world_camera = r.T_world_camera * T_rect_rawleft_,
           .tracked = r.tracked,
           .keyframe = r.keyframe,

@@ -26,6 +26,7 @@
 namespace vkvo::system {
 
 struct OdometryPose {
+  std::size_t frame_index = 0;  // the pair's number in the caller's stream (prepare's `index`)
   std::int64_t timestamp_ns = 0;
   // The raw (unrectified) left camera, cam0, in the world frame: cam0 at the first frame.
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();

@@ -147,6 +147,7 @@ TEST(OdometryStream, DeliversEveryPoseInOrderNearTheTruth) {
   ASSERT_EQ(poses.size(), static_cast<std::size_t>(kFrames));
   for (int f = 0; f < kFrames; ++f) {
     EXPECT_EQ(poses[f].timestamp_ns, LiveRun::timestamp_ns(f));
+    EXPECT_EQ(poses[f].frame_index, static_cast<std::size_t>(f));
     EXPECT_TRUE(poses[f].tracked) << "frame " << f;
     EXPECT_LT((poses[f].T_world_camera.translation() - run.truth(f).translation()).norm(), 2e-3) << "frame " << f;
   }
@@ -203,6 +204,7 @@ TEST(OdometryStream, DropsTheOldestPairsWhenTheCameraOutpacesIt) {
   ASSERT_EQ(poses.size(), 2u);
   EXPECT_EQ(poses[0].timestamp_ns, LiveRun::timestamp_ns(0));
   EXPECT_EQ(poses[1].timestamp_ns, LiveRun::timestamp_ns(kFrames - 1));
+  EXPECT_EQ(poses[1].frame_index, static_cast<std::size_t>(kFrames - 1));
   EXPECT_TRUE(poses[1].tracked);  // 19 frames on, the oracle's scene is still in view
   const Eigen::Isometry3d truth = scene.T_world_left[0].inverse() * scene.T_world_left[kFrames - 1];
   EXPECT_LT((poses[1].T_world_camera.translation() - truth.translation()).norm(), 2e-3);
