@@ -8,12 +8,13 @@ NewKeyframeLines add_keyframe_lines(map::Map& map, map::Id kf, const StereoLines
                                     const std::vector<int>& reference_partner, const geometry::PinholeCamera& camera,
                                     const KeyframeLineParams& params) {
   NewKeyframeLines out;
+  // The map keeps its keyframes in place while lines and observations are added.
+  const map::KeyFrame& keyframe = *map.keyframe(kf);
   const map::KeyFrame* ref = reference == kf ? nullptr : map.keyframe(reference);
-  const Eigen::Isometry3d T = map.keyframe(kf)->T_world_camera;
-  const std::size_t lines = map.keyframe(kf)->lines.size();
-  for (std::size_t l = 0; l < lines; ++l) {
-    if (map.keyframe(kf)->line_ids[l] != map::kInvalidId) continue;  // tracked
-    const geometry::LineObservation here{T, map.keyframe(kf)->lines[l].left};
+  const Eigen::Isometry3d& T = keyframe.T_world_camera;
+  for (std::size_t l = 0; l < keyframe.lines.size(); ++l) {
+    if (keyframe.line_ids[l] != map::kInvalidId) continue;  // tracked
+    const geometry::LineObservation here{T, keyframe.lines[l].left};
     const int r = ref && l < reference_partner.size() ? reference_partner[l] : -1;
     std::optional<geometry::LineObservation> there;
     if (r >= 0 && static_cast<std::size_t>(r) < ref->lines.size() &&

@@ -105,9 +105,9 @@ OdometryPose StereoOdometry::optimise(const FrameInput& in) {
 }
 
 OdometryPose StereoOdometry::track(const cv::Mat& left, const cv::Mat& right, std::int64_t timestamp_ns) {
-  FrameInput in = prepare(left, right, timestamp_ns, frames_tracked_);
+  FrameInput in = prepare(left, right, timestamp_ns, next_index_);
   extract_features(in);
-  ++frames_tracked_;
+  ++next_index_;
   return optimise(in);
 }
 

@@ -73,7 +73,7 @@ class StereoOdometry {
   features::LineDetector line_detector_;
   std::shared_ptr<const features::PointFeatures> previous_;  // the feature stage's last frame
   TimingReport timing_;
-  std::size_t frames_tracked_ = 0;  // by track(): its frame index
+  std::size_t next_index_ = 0;  // the index track() gives its next pair
 };
 
 }  // namespace vkvo::system
