@@ -35,7 +35,7 @@ std::filesystem::path temp_dir(const std::string& tag) {
   if (info) name += std::string("_") + info->test_suite_name() + "_" + info->name();
   for (char& c : name)
     if (c == '/') c = '_';
-  const auto dir = std::filesystem::temp_directory_path() / "vkvo_tests" / name;
+  const auto dir = std::filesystem::path(VKVO_TEST_SCRATCH_DIR) / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

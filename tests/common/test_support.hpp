@@ -15,7 +15,7 @@ std::optional<std::filesystem::path> shared_data_dir();
 // The project's source tree (for config/ files and the like).
 std::filesystem::path source_dir();
 
-// A fresh, empty temporary directory unique to the calling test.
+// A fresh, empty directory unique to the calling test, under the build tree (tests/scratch/).
 std::filesystem::path temp_dir(const std::string& tag);
 
 // Writes `text` to `file` byte for byte, creating the parent directories.

@@ -86,8 +86,7 @@ TEST(Context, NoVulkanDriverIsAClearError) {
 }
 
 TEST(Context, PipelineCacheIsWrittenToDisk) {
-  const auto dir = std::filesystem::temp_directory_path() / "vkvo_tests" / "pipeline_cache";
-  std::filesystem::remove_all(dir);
+  const auto dir = test::temp_dir("pipeline_cache") / "cache";  // not there yet: the context makes it
   {
     const Context context({.validation = false, .cache_dir = dir});
   }
