@@ -1,7 +1,10 @@
 # ctest driver for tests/install (label `install`): installs the build tree BUILD_DIR into a fresh prefix under
 # WORK_DIR, then configures, builds and runs the project in consumer/ against that prefix alone. Fails (non-zero
 # exit of `cmake -P`) on the first step that does.
-#   cmake -DBUILD_DIR=... -DWORK_DIR=... -DGENERATOR=... -DCXX_COMPILER=... [-DCONFIG=...] -P run_consumer.cmake
+#   cmake -DBUILD_DIR=... -DWORK_DIR=... -DGENERATOR=... -DCXX_COMPILER=... [-DCONFIG=...] [-DSANITIZE=...]
+#         -P run_consumer.cmake
+# SANITIZE: the build's VKVO_SANITIZE; its static libraries then need the sanitizer runtimes, so the consumer is
+# compiled and linked with the same -fsanitize= list.
 foreach(var BUILD_DIR WORK_DIR GENERATOR CXX_COMPILER)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "run_consumer.cmake: ${var} is not set")
@@ -26,9 +29,13 @@ endfunction()
 
 step("cmake --install" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix} --config ${CONFIG})
 # Only the fresh prefix may provide vkvo: no package registry, no build tree.
+set(sanitizer_flags)
+if(SANITIZE)
+  set(sanitizer_flags "-DCMAKE_CXX_FLAGS=-fsanitize=${SANITIZE}" "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=${SANITIZE}")
+endif()
 step("configure the consumer" ${CMAKE_COMMAND} -S ${CMAKE_CURRENT_LIST_DIR}/consumer -B ${consumer_build}
      -G ${GENERATOR} -DCMAKE_BUILD_TYPE=${CONFIG} -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
-     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF ${sanitizer_flags})
 step("build the consumer" ${CMAKE_COMMAND} --build ${consumer_build} --config ${CONFIG})
 find_program(consumer vkvo_consumer PATHS ${consumer_build} ${consumer_build}/${CONFIG} NO_DEFAULT_PATH REQUIRED)
 step("run the consumer" ${consumer})
