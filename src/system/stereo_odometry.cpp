@@ -7,6 +7,15 @@
 #include <opencv2/imgproc.hpp>
 #include <tbb/parallel_invoke.h>
 
+// Built with ThreadSanitizer: GCC defines __SANITIZE_THREAD__, clang answers __has_feature(thread_sanitizer).
+#if defined(__SANITIZE_THREAD__)
+#define VKVO_THREAD_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define VKVO_THREAD_SANITIZER 1
+#endif
+#endif
+
 namespace vkvo::system {
 namespace {
 
@@ -87,7 +96,7 @@ void StereoOdometry::extract_features(FrameInput& in) {
     in.lines = line_detector_.detect(in.left);
     in.le_ms = le.ms();
   };
-#if defined(__SANITIZE_THREAD__)
+#if defined(VKVO_THREAD_SANITIZER)
   // ThreadSanitizer cannot see a task handed to a TBB worker (libtbb is not built with it), so it would report
   // every access of the tasks as a race; in a -DVKVO_SANITIZE=thread build they run one after the other on the
   // feature thread, and what it checks is the stages' own threads, queues and the published reference.
