@@ -86,6 +86,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   const double first_timestamp = dataset.empty() ? 0.0 : dataset.frame(0).timestamp_s;
   std::atomic<std::size_t> unreadable = 0;  // pairs skipped before the stages (image missing, corrupt, wrong size)
   Stopwatch since_last_output;
+  const OdometryStream* stream_counts = nullptr;  // set before the first push: the pairs its stages failed on
 
   // On the optimisation thread, for every frame the stages got through.
   auto on_pose = [&](const OdometryPose& r) {
@@ -99,7 +100,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
     result.last_frame_tracked = r.tracked;
     result.timing.add(Module::Frame, since_last_output.ms());
     since_last_output = Stopwatch();
-    progress.update(result.frames + unreadable, odometry.keyframes(), r);
+    progress.update(result.frames + unreadable + stream_counts->failed(), odometry.keyframes(), r);
   };
 
   {
@@ -107,6 +108,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
     OdometryStream stream(odometry, on_pose,
                           {.queue_capacity = static_cast<std::size_t>(config.tracking.queue_capacity),
                            .when_full = QueueFull::block});
+    stream_counts = &stream;
     for (std::size_t next = 0; next < dataset.size() && !(options.stop && options.stop->load()); ++next) {
       const auto& frame = dataset.frame(next);
       if (options.realtime) {
