@@ -10,6 +10,7 @@
 #include "app/command.hpp"
 #include "app/kernel_bench.hpp"
 #include "runtime/context.hpp"
+#include "runtime/host.hpp"
 
 namespace {
 
@@ -32,6 +33,8 @@ int run(const Options& options) {
   const vkvo::rt::Context context(context_options);
   const auto& caps = context.caps();
   fmt::print("device: {} ({}), {}\n", caps.name, caps.type, caps.driver);
+  // A CPU device's figures are the host's (runtime/host.hpp); a GPU's still include its uploads and submissions.
+  fmt::print("host: {}\n", vkvo::rt::host_cpu().describe());
   std::vector<vkvo::rt::Precision> precisions;
   for (const auto& name : options.precisions) {
     const auto p = vkvo::rt::parse_precision(name);

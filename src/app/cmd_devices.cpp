@@ -3,6 +3,7 @@
 
 #include "app/command.hpp"
 #include "runtime/context.hpp"
+#include "runtime/host.hpp"
 
 namespace {
 
@@ -19,6 +20,7 @@ int list_all() {
     fmt::print("    type {}, Vulkan {}.{}.{}, vendor 0x{:04x} device 0x{:04x}\n", d.type, VK_VERSION_MAJOR(d.api_version),
                VK_VERSION_MINOR(d.api_version), VK_VERSION_PATCH(d.api_version), d.vendor_id, d.device_id);
     if (!d.driver.empty()) fmt::print("    driver {}\n", d.driver);
+    if (d.type == "cpu") fmt::print("    runs on the host: {}\n", vkvo::rt::host_cpu().describe());
     fmt::print("    fp16 arithmetic {}, 16-bit storage {}, 8-bit storage {}, int8 arithmetic {}, int64 {}\n",
                yes_no(d.float16_arithmetic), yes_no(d.storage_16bit), yes_no(d.storage_8bit),
                yes_no(d.int8_arithmetic), yes_no(d.int64));

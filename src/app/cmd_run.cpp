@@ -4,6 +4,7 @@
 #include <csignal>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -12,6 +13,7 @@
 #include "eval/evaluate.hpp"
 #include "io/dataset.hpp"
 #include "io/trajectory.hpp"
+#include "runtime/host.hpp"
 #include "system/network_frontend.hpp"
 #include "system/pipeline.hpp"
 #include "tools/convert/model_locator.hpp"
@@ -74,7 +76,8 @@ int run(const Options& o) {
   }
 
   const vkvo::rt::Context context;
-  spdlog::info("Vulkan device: {} ({})", context.caps().name, context.caps().type);
+  const std::string host = vkvo::rt::host_cpu().describe();
+  spdlog::info("Vulkan device: {} ({}); host: {}", context.caps().name, context.caps().type, host);
   const auto* superglue = superglue_pack ? &*superglue_pack : nullptr;
   auto feature_frontend = vkvo::system::make_network_frontend(context, superpoint_pack, superglue, config);
   auto stereo_frontend = vkvo::system::make_network_frontend(context, superpoint_pack, superglue, config);
@@ -85,6 +88,7 @@ int run(const Options& o) {
   run_options.realtime = o.realtime;
   run_options.stop = &g_stop;
   run_options.extra_summary = {{"device", context.caps().name},
+                               {"host", host},
                                {"matcher", superglue ? "superglue" : "nn"},
                                {"superpoint_model", superpoint->pack.string()}};
   const auto result = vkvo::system::run_vo(*dataset, config, *feature_frontend, *stereo_frontend, run_options);

@@ -1,0 +1,23 @@
+#pragma once
+// The machine the process runs on. On a CPU device (lavapipe) it is the device: the driver names only its LLVM
+// and vector width, yet the same build ran SuperPoint 2.2x apart on two 2-core cloud VMs (an AMD Zen 5 and an
+// Intel Emerald Rapids), so benchmark figures name the host next to the device.
+#include <istream>
+#include <string>
+
+namespace vkvo::rt {
+
+struct HostCpu {
+  std::string model;  // e.g. "AMD EPYC 9R45"; the architecture ("aarch64") where the system names no model
+  unsigned logical_cpus = 0;
+
+  std::string describe() const;  // "<model>, <n> logical CPU(s)"
+};
+
+HostCpu host_cpu();
+
+// The processor's name in Linux's /proc/cpuinfo text: the first "model name" (x86), else the first "Hardware" or
+// "Processor" line that names one (older ARM kernels); empty when none does.
+std::string cpu_model_from_cpuinfo(std::istream& cpuinfo);
+
+}  // namespace vkvo::rt
