@@ -8,7 +8,7 @@
 namespace vkvo::rt {
 
 struct HostCpu {
-  std::string model;  // e.g. "AMD EPYC 9R45"; the architecture ("aarch64") where the system names no model
+  std::string model;  // e.g. "Intel(R) Xeon(R) Processor"; the architecture ("aarch64") where none is named
   unsigned logical_cpus = 0;
 
   std::string describe() const;  // "<model>, <n> logical CPU(s)"
