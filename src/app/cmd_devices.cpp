@@ -1,4 +1,6 @@
 // `vkvo devices`: every Vulkan device with the capabilities vkvo cares about, and which one it would use.
+#include <string>
+
 #include <fmt/format.h>
 
 #include "app/command.hpp"
@@ -15,12 +17,13 @@ int list_all() {
   options.validation = false;
   options.pipeline_cache = false;
   const vkvo::rt::Context chosen(options);
+  const std::string host = vkvo::rt::host_cpu().describe();
   for (const auto& d : devices) {
     fmt::print("[{}] {}{}\n", d.index, d.name, d.index == chosen.caps().index ? "   <- selected" : "");
     fmt::print("    type {}, Vulkan {}.{}.{}, vendor 0x{:04x} device 0x{:04x}\n", d.type, VK_VERSION_MAJOR(d.api_version),
                VK_VERSION_MINOR(d.api_version), VK_VERSION_PATCH(d.api_version), d.vendor_id, d.device_id);
     if (!d.driver.empty()) fmt::print("    driver {}\n", d.driver);
-    if (d.type == "cpu") fmt::print("    runs on the host: {}\n", vkvo::rt::host_cpu().describe());
+    if (d.type == "cpu") fmt::print("    runs on the host: {}\n", host);
     fmt::print("    fp16 arithmetic {}, 16-bit storage {}, 8-bit storage {}, int8 arithmetic {}, int64 {}\n",
                yes_no(d.float16_arithmetic), yes_no(d.storage_16bit), yes_no(d.storage_8bit),
                yes_no(d.int8_arithmetic), yes_no(d.int64));
