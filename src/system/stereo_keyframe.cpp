@@ -44,46 +44,42 @@ std::vector<std::optional<Eigen::Vector3d>> known_points_in_camera(
 namespace {
 
 // The two known 3D points of `line` whose keypoints lie nearest the segment's supporting line.
-std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> two_points_on_line(
-    const features::LineSegment& line, const std::vector<int>& line_points, const features::PointFeatures& points,
-    const std::vector<std::optional<Eigen::Vector3d>>& known_points) {
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> two_points_on_line(const features::LineSegment& line,
+                                                                               const std::vector<int>& line_points,
+                                                                               const LeftKeypoints& keypoints) {
   std::vector<std::pair<float, int>> candidates;
   for (int k : line_points)
-    if (known_points[static_cast<std::size_t>(k)])
-      candidates.emplace_back(line.distance_to_line(points.keypoints[static_cast<std::size_t>(k)]), k);
+    if (keypoints.known_positions[static_cast<std::size_t>(k)])
+      candidates.emplace_back(line.distance_to_line(keypoints.pixels[static_cast<std::size_t>(k)]), k);
   if (candidates.size() < 2) return std::nullopt;
   std::partial_sort(candidates.begin(), candidates.begin() + 2, candidates.end());
-  const Eigen::Vector3d a = *known_points[static_cast<std::size_t>(candidates[0].second)];
-  const Eigen::Vector3d b = *known_points[static_cast<std::size_t>(candidates[1].second)];
+  const Eigen::Vector3d a = *keypoints.known_positions[static_cast<std::size_t>(candidates[0].second)];
+  const Eigen::Vector3d b = *keypoints.known_positions[static_cast<std::size_t>(candidates[1].second)];
   if ((a - b).norm() < 1e-3) return std::nullopt;  // the same 3D point twice: no direction
   return std::make_pair(a, b);
 }
 
 }  // namespace
 
-StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo,
-                                     const std::vector<features::LineSegment>& left_lines,
-                                     const features::PointLineAssociation& left_association,
-                                     const std::vector<features::LineSegment>& right_lines,
-                                     const features::PointLineAssociation& right_association,
-                                     const std::vector<int>& stereo_matches, const features::PointFeatures& left_points,
-                                     const std::vector<std::optional<Eigen::Vector3d>>& known_points,
+StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo, const AssociatedLines& left,
+                                     const AssociatedLines& right, const LeftKeypoints& keypoints,
                                      const features::LineMatchParams& match_params,
                                      const geometry::TriangulationParams& params) {
+  const std::size_t line_count = left.segments.size();
   StereoLines out;
-  out.right.assign(left_lines.size(), std::nullopt);
-  out.lines.assign(left_lines.size(), std::nullopt);
+  out.right.assign(line_count, std::nullopt);
+  out.lines.assign(line_count, std::nullopt);
   const std::vector<int> partner =
-      features::match_lines(left_association, right_association, stereo_matches, match_params);
-  for (std::size_t l = 0; l < left_lines.size(); ++l) {
-    const auto points_on_line =
-        two_points_on_line(left_lines[l], left_association.points_of_line[l], left_points, known_points);
+      features::match_lines(left.association, right.association, keypoints.right_matches, match_params);
+  for (std::size_t l = 0; l < line_count; ++l) {
+    const auto points_on_line = two_points_on_line(left.segments[l], left.association.points_of_line[l], keypoints);
     const int r = l < partner.size() ? partner[l] : -1;
     if (r >= 0) {
-      const geometry::Segment2d right = to_segment(right_lines[static_cast<std::size_t>(r)]);
-      const auto tri = geometry::triangulate_stereo_line(stereo, to_segment(left_lines[l]), right, points_on_line, params);
+      const geometry::Segment2d right_segment = to_segment(right.segments[static_cast<std::size_t>(r)]);
+      const auto tri = geometry::triangulate_stereo_line(stereo, to_segment(left.segments[l]), right_segment,
+                                                         points_on_line, params);
       if (tri.method != geometry::LineTriangulationMethod::failed) {
-        out.right[l] = right;
+        out.right[l] = right_segment;
         out.lines[l] = tri.line;
         (tri.method == geometry::LineTriangulationMethod::planes ? out.planes : out.points)++;
         continue;

@@ -40,17 +40,24 @@ struct StereoLines {
   int planes = 0, points = 0;                                            // lines per triangulation method
 };
 
+// One image's line segments and the keypoints associated to each (features::associate_points_to_lines).
+struct AssociatedLines {
+  const std::vector<features::LineSegment>& segments;
+  const features::PointLineAssociation& association;
+};
+
+// What line triangulation needs to know of the left image's keypoints, per keypoint.
+struct LeftKeypoints {
+  const std::vector<Eigen::Vector2f>& pixels;
+  const std::vector<int>& right_matches;  // index of its right keypoint (a match that passed the stereo gates), or -1
+  const std::vector<std::optional<Eigen::Vector3d>>& known_positions;  // left camera frame (known_points_in_camera)
+};
+
 // Matches left and right lines through the stereo point matches (paper eq. 2) and triangulates each left line:
 // from the two back-projected planes when it has a right partner, else (or when the planes are degenerate) from
-// two of its triangulated points (the two nearest the segment, as the paper prescribes). `known_points` holds,
-// per left keypoint, its 3D position in the left camera frame where one is known (see known_points_in_camera).
-StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo,
-                                     const std::vector<features::LineSegment>& left_lines,
-                                     const features::PointLineAssociation& left_association,
-                                     const std::vector<features::LineSegment>& right_lines,
-                                     const features::PointLineAssociation& right_association,
-                                     const std::vector<int>& stereo_matches, const features::PointFeatures& left_points,
-                                     const std::vector<std::optional<Eigen::Vector3d>>& known_points,
+// two of its keypoints with known positions (the two nearest the segment, as the paper prescribes).
+StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo, const AssociatedLines& left,
+                                     const AssociatedLines& right, const LeftKeypoints& keypoints,
                                      const features::LineMatchParams& match_params,
                                      const geometry::TriangulationParams& params);
 

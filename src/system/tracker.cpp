@@ -269,10 +269,11 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     std::vector<std::optional<Eigen::Vector3d>> tracked_world(frame.point_ids.size());
     for (std::size_t i = 0; i < tracked_world.size(); ++i)
       if (const map::MapPoint* p = map_.point(frame.point_ids[i]); usable(p)) tracked_world[i] = p->position;
-    stereo_lines = triangulate_stereo_lines(
-        stereo_, input.lines, tracked.association, right_lines, right_association, gated, input.points,
-        known_points_in_camera(stereo_points, tracked_world, frame.T_world_camera), config_.lines.matching,
-        config_.triangulation);
+    const auto known_positions = known_points_in_camera(stereo_points, tracked_world, frame.T_world_camera);
+    stereo_lines = triangulate_stereo_lines(stereo_, {input.lines, tracked.association},
+                                            {right_lines, right_association},
+                                            {input.points.keypoints, gated, known_positions},
+                                            config_.lines.matching, config_.triangulation);
     for (std::size_t l = 0; l < frame.lines.size(); ++l) frame.lines[l].right = stereo_lines.right[l];
   }
 
