@@ -20,14 +20,6 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> random_segment(std::mt19937& rng, co
   }
 }
 
-// Same line: directions parallel (either sign) and n/|v| equal up to that sign.
-void expect_same_line(const PlueckerLine& a, const PlueckerLine& b, double tol) {
-  const PlueckerLine an = a.normalized(), bn = b.normalized();
-  const double sign = an.v.dot(bn.v) > 0 ? 1.0 : -1.0;
-  EXPECT_LT((an.v - sign * bn.v).norm(), tol);
-  EXPECT_LT((an.n - sign * bn.n).norm(), tol);
-}
-
 TEST(Line3d, PlueckerFromPointsSatisfiesDefinition) {
   std::mt19937 rng(3);
   const PinholeCamera cam = test::test_stereo_camera().camera;
@@ -63,7 +55,7 @@ TEST(Line3d, OrthonormalRoundTripAndUpdate) {
     EXPECT_LT((O2.U - O.U).norm(), 1e-12);
     EXPECT_LT((O2.W - O.W).norm(), 1e-12);
     // Zero update is the identity; a W update changes only the distance to the origin.
-    expect_same_line(O.plus(Eigen::Vector4d::Zero()).to_pluecker(), L, 1e-12);
+    test::expect_same_line(O.plus(Eigen::Vector4d::Zero()).to_pluecker(), L, 1e-12);
     // (a negative angle grows w1 / w2: the line moves away from the origin and n keeps its sign)
     const PlueckerLine moved = O.plus(Eigen::Vector4d(0, 0, 0, -0.1)).to_pluecker();
     EXPECT_LT((moved.v - L.v).norm(), 1e-12);

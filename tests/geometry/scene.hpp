@@ -1,11 +1,14 @@
 #pragma once
-// Random synthetic scenes for the geometry tests: a rectified stereo camera and random poses, points and lines.
+// Synthetic scenes for the geometry tests: a rectified stereo camera, random poses, points and lines, and the
+// comparison of two 3D lines.
 #include <random>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <gtest/gtest.h>
 
 #include "geometry/camera.hpp"
+#include "geometry/line3d.hpp"
 
 namespace vkvo::test {
 
@@ -31,6 +34,14 @@ inline Eigen::Vector3d random_visible_point(std::mt19937& rng, const geometry::P
   std::uniform_real_distribution<double> ux(20.0, cam.width - 20.0), uy(20.0, cam.height - 20.0), uz(zmin, zmax);
   const Eigen::Vector2d px(ux(rng), uy(rng));
   return T_world_camera * (uz(rng) * cam.backproject(px));
+}
+
+// Same line: directions parallel (either sign) and n/|v| equal up to that sign.
+inline void expect_same_line(const geometry::PlueckerLine& a, const geometry::PlueckerLine& b, double tol) {
+  const geometry::PlueckerLine an = a.normalized(), bn = b.normalized();
+  const double sign = an.v.dot(bn.v) > 0 ? 1.0 : -1.0;
+  EXPECT_LT((an.v - sign * bn.v).norm(), tol);
+  EXPECT_LT((an.n - sign * bn.n).norm(), tol);
 }
 
 }  // namespace vkvo::test

@@ -57,12 +57,6 @@ LineObservation observe(const PinholeCamera& cam, const Eigen::Isometry3d& T_wor
   return {T_world_camera, Segment2d(a.x(), a.y(), b.x(), b.y())};
 }
 
-void expect_same_line(const PlueckerLine& a, const PlueckerLine& b, double tol) {
-  const double sign = a.v.dot(b.v) > 0 ? 1.0 : -1.0;
-  EXPECT_LT((a.normalized().v - sign * b.normalized().v).norm(), tol);
-  EXPECT_LT((a.normalized().n - sign * b.normalized().n).norm(), tol);
-}
-
 TEST(Triangulation, TwoViewLineFromPlanesExact) {
   const PinholeCamera cam = test::test_stereo_camera().camera;
   const TriangulationParams params;
@@ -80,8 +74,8 @@ TEST(Triangulation, TwoViewLineFromPlanesExact) {
     EXPECT_EQ(gated.has_value(), result.method != LineTriangulationMethod::failed);
     if (result.method == LineTriangulationMethod::failed) continue;  // degenerate geometry, checked below
     EXPECT_EQ(result.method, LineTriangulationMethod::planes);
-    expect_same_line(result.line, PlueckerLine::from_points(A, B), 1e-7);
-    if (gated) expect_same_line(*gated, PlueckerLine::from_points(A, B), 1e-7);
+    test::expect_same_line(result.line, PlueckerLine::from_points(A, B), 1e-7);
+    if (gated) test::expect_same_line(*gated, PlueckerLine::from_points(A, B), 1e-7);
     ++checked;
   }
   EXPECT_GT(checked, 200);
@@ -119,7 +113,7 @@ TEST(Triangulation, StereoLineExact) {
     const LineObservation r = observe(stereo.camera, stereo.T_left_right(), A, B);
     const auto result = triangulate_stereo_line(stereo, l.segment, r.segment, std::nullopt, params);
     if (result.method == LineTriangulationMethod::failed) continue;
-    expect_same_line(result.line, PlueckerLine::from_points(A, B), 1e-7);
+    test::expect_same_line(result.line, PlueckerLine::from_points(A, B), 1e-7);
     ++checked;
   }
   EXPECT_GT(checked, 100);
@@ -140,7 +134,7 @@ TEST(Triangulation, DegenerateStereoLineFallsBackToPoints) {
   const auto fallback = triangulate_stereo_line(stereo, l.segment, r.segment, std::make_pair(P1, P2), params);
   EXPECT_EQ(fallback.method, LineTriangulationMethod::points);
   EXPECT_STREQ(to_string(fallback.method), "points");
-  expect_same_line(fallback.line, PlueckerLine::from_points(A, B), 1e-12);
+  test::expect_same_line(fallback.line, PlueckerLine::from_points(A, B), 1e-12);
 }
 
 TEST(Triangulation, LoadParams) {

@@ -19,13 +19,6 @@ geometry::Segment2d observe(const geometry::PinholeCamera& cam, const Eigen::Iso
   return {a.x(), a.y(), b.x(), b.y()};
 }
 
-void expect_same_line(const PlueckerLine& a, const PlueckerLine& b, double tol) {
-  const PlueckerLine an = a.normalized(), bn = b.normalized();
-  const double sign = an.v.dot(bn.v) > 0 ? 1.0 : -1.0;
-  EXPECT_LT((an.v - sign * bn.v).norm(), tol);
-  EXPECT_LT((an.n - sign * bn.n).norm(), tol);
-}
-
 // Two keyframes 0.4 m apart sideways (the reference first), both seeing five 3D segments as lines 0-4.
 struct TwoKeyframes {
   TwoKeyframes() {
@@ -77,7 +70,7 @@ TEST(KeyframeLines, StereoAndTwoViewLinesWithBothObservations) {
   for (int l : {0, 1}) {
     const map::MapLine* line = s.map.line(kf.line_ids[l]);
     ASSERT_NE(line, nullptr) << "line " << l;
-    expect_same_line(line->line, s.truth(l), 1e-7);
+    test::expect_same_line(line->line, s.truth(l), 1e-7);
     EXPECT_EQ(line->observations.size(), 2u) << "line " << l;
     EXPECT_EQ(ref.line_ids[l], kf.line_ids[l]) << "line " << l;
     ASSERT_TRUE(line->endpoints.has_value());
