@@ -44,35 +44,33 @@ void OdometryStream::finish() {
   optimisation_thread_.join();
 }
 
-void OdometryStream::run_features() {
+template <typename Work>
+void OdometryStream::drain(FrameQueue& queue, const char* stage, Work work) {
   for (;;) {
     FramePtr frame;
-    waiting_.pop(frame);
-    if (!frame) break;
+    queue.pop(frame);
+    if (!frame) return;
+    const std::size_t index = frame->index;  // `work` may move the frame on
     try {
-      odometry_->extract_features(*frame);
+      work(frame);
     } catch (const std::exception& e) {
       ++failed_;
-      spdlog::error("frame {}: feature stage failed: {}", frame->index, e.what());
-      continue;
+      spdlog::error("frame {}: {} failed: {}", index, stage, e.what());
     }
-    featured_.push(std::move(frame));
   }
+}
+
+void OdometryStream::run_features() {
+  drain(waiting_, "feature stage", [this](FramePtr& frame) {
+    odometry_->extract_features(*frame);
+    featured_.push(std::move(frame));
+  });
   featured_.push(nullptr);
 }
 
 void OdometryStream::run_optimisation() {
-  for (;;) {
-    FramePtr frame;
-    featured_.pop(frame);
-    if (!frame) break;
-    try {
-      on_pose_(odometry_->optimise(*frame));
-    } catch (const std::exception& e) {
-      ++failed_;
-      spdlog::error("frame {}: optimisation stage or pose callback failed: {}", frame->index, e.what());
-    }
-  }
+  drain(featured_, "optimisation stage or pose callback",
+        [this](const FramePtr& frame) { on_pose_(odometry_->optimise(*frame)); });
 }
 
 }  // namespace vkvo::system

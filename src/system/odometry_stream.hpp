@@ -55,13 +55,19 @@ class OdometryStream {
 
  private:
   using FramePtr = std::shared_ptr<FrameInput>;  // nullptr: the end of the stream
+  using FrameQueue = tbb::concurrent_bounded_queue<FramePtr>;
+
+  // Pops frames until the end of the stream and runs `work` on each; a frame whose work throws is counted as
+  // failed and logged with `stage`, and the frames after it go on.
+  template <typename Work>
+  void drain(FrameQueue& queue, const char* stage, Work work);
   void run_features();
   void run_optimisation();
 
   StereoOdometry* odometry_;
   PoseCallback on_pose_;
   QueueFull when_full_;
-  tbb::concurrent_bounded_queue<FramePtr> waiting_, featured_;
+  FrameQueue waiting_, featured_;
   std::atomic<std::size_t> pushed_ = 0, dropped_ = 0, failed_ = 0;
   bool finished_ = false;
   std::thread feature_thread_, optimisation_thread_;
