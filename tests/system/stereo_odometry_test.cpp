@@ -1,6 +1,6 @@
 // The VO for live input (StereoOdometry, and OdometryStream's two threads): raw pairs pushed one at a time with the
 // oracle point frontend (no GPU), poses against the truth of the synthetic scene, the input checks, the copy that
-// protects a caller's buffers, and the stream's order and queue policies.
+// protects a caller's buffers, and the stream's order, queue policies and failed frames.
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
@@ -150,6 +150,56 @@ TEST(OdometryStream, DeliversEveryPoseInOrderNearTheTruth) {
     EXPECT_EQ(poses[f].frame_index, static_cast<std::size_t>(f));
     EXPECT_TRUE(poses[f].tracked) << "frame " << f;
     EXPECT_LT((poses[f].T_world_camera.translation() - run.truth(f).translation()).norm(), 2e-3) << "frame " << f;
+  }
+}
+
+// A point frontend that fails on one image, as a lost device would.
+class FailingFrontend final : public PointFrontend {
+ public:
+  FailingFrontend(PointFrontend& inner, cv::Mat poisoned) : inner_(&inner), poisoned_(std::move(poisoned)) {}
+  features::PointFeatures detect(const cv::Mat& gray) override {
+    if (gray.size() == poisoned_.size() && cv::norm(gray, poisoned_, cv::NORM_INF) == 0.0)
+      throw std::runtime_error("device lost");
+    return inner_->detect(gray);
+  }
+  features::PointMatches match(const features::PointFeatures& a, const features::PointFeatures& b) override {
+    return inner_->match(a, b);
+  }
+
+ private:
+  PointFrontend* inner_;
+  cv::Mat poisoned_;
+};
+
+// A frame whose feature stage throws, and one whose pose callback throws, are counted as failed; the stream
+// goes on with the frames after them, in order and still tracked.
+TEST(OdometryStream, CountsFailedFramesAndGoesOn) {
+  constexpr int kFrames = 16, kFeatureFailure = 7, kCallbackFailure = 12;
+  const test::SyntheticScene scene = test::SyntheticScene::make(kFrames, 600, 21);
+  test::OracleFrontend oracle(scene, 0.0, 1), stereo_oracle(scene, 0.0, 2);
+  FailingFrontend failing(oracle, oracle.image(kFeatureFailure, false));
+  StereoOdometry odometry(points_only_config(), calibration_of(scene.stereo), failing, stereo_oracle);
+  std::vector<OdometryPose> poses;
+  {
+    OdometryStream stream(odometry, [&](const OdometryPose& pose) {
+      if (pose.frame_index == kCallbackFailure) throw std::runtime_error("subscriber gone");
+      poses.push_back(pose);
+    });
+    for (int f = 0; f < kFrames; ++f)
+      stream.push(oracle.image(f, false), oracle.image(f, true), LiveRun::timestamp_ns(f));
+    stream.finish();
+    EXPECT_EQ(stream.pushed(), static_cast<std::size_t>(kFrames));
+    EXPECT_EQ(stream.failed(), 2u);
+  }
+  ASSERT_EQ(poses.size(), static_cast<std::size_t>(kFrames - 2));
+  std::size_t next = 0;
+  for (int f = 0; f < kFrames; ++f) {
+    if (f == kFeatureFailure || f == kCallbackFailure) continue;
+    const OdometryPose& pose = poses[next++];
+    EXPECT_EQ(pose.frame_index, static_cast<std::size_t>(f));
+    EXPECT_TRUE(pose.tracked) << "frame " << f;
+    const Eigen::Isometry3d truth = scene.T_world_left[0].inverse() * scene.T_world_left[f];
+    EXPECT_LT((pose.T_world_camera.translation() - truth.translation()).norm(), 2e-3) << "frame " << f;
   }
 }
 
