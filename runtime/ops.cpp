@@ -48,6 +48,7 @@ constexpr std::uint32_t kTiledConv1x1Pixels = 8;
 bool tiled_kernels_available(const Context& context, Precision precision) {
   return context.supports_uniform_texel_format(activation_texel_format(precision)) &&
          context.supports_uniform_texel_format(vec4_texel_format(precision)) &&
+         context.supports_uniform_texel_format(conv_weight_texel_format(precision)) &&
          context.supports_uniform_texel_format(packed_texel_format(precision));
 }
 
@@ -65,7 +66,7 @@ bool use_tiled_conv(const Context& context, Precision precision, std::uint32_t k
 KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool tiled, bool max_pool = false) {
   if (kernel_size != 1 && kernel_size != 3) throw std::invalid_argument("Conv2d: kernel size must be 1 or 3");
   std::vector<vk::Format> texel_formats;
-  if (tiled) texel_formats = {vec4_texel_format(precision), vec4_texel_format(precision)};
+  if (tiled) texel_formats = {vec4_texel_format(precision), conv_weight_texel_format(precision)};
   const char* op = kernel_size == 1 ? "conv1x1"
                    : !tiled         ? "conv3x3"
                    : max_pool       ? "conv3x3_maxpool_tiled"
@@ -106,6 +107,13 @@ vk::Format packed_texel_format(Precision precision) {
 }
 std::uint32_t values_per_packed_texel(Precision precision) { return precision == Precision::fp32 ? 4 : 8; }
 
+Precision conv_weight_precision(Precision activations) {
+  return activations == Precision::fp16 ? Precision::fp16 : Precision::fp32;
+}
+vk::Format conv_weight_texel_format(Precision activations) {
+  return vec4_texel_format(conv_weight_precision(activations));
+}
+
 std::size_t activation_bytes(const ActivationShape& shape, Precision precision) {
   return shape.elements() * storage_bytes(precision);
 }
@@ -121,7 +129,7 @@ Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel
                                            .push_constant_bytes = sizeof(Conv1x1Push),
                                            .specialization = {kGroupX, kGroupY},
                                            .texel_formats = {activation_texel_format(precision),
-                                                             vec4_texel_format(precision)}});
+                                                             conv_weight_texel_format(precision)}});
 }
 
 bool Conv2d::uses_tiled_kernel(const ActivationShape& in) const {

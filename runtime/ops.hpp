@@ -35,11 +35,23 @@ vk::Format packed_texel_format(Precision precision);
 std::uint32_t values_per_packed_texel(Precision precision);
 inline constexpr std::size_t kPackedTexelBytes = 16;
 
+// Storage precision of convolution weights (Conv2d, Conv3x3MaxPool) for activations stored at `activations`:
+// fp32 for the 16-bit-storage variant (fp16s), which keeps only the activations in 16 bits. SuperPoint's dense
+// scores are far more sensitive to rounded weights than to rounded activations: against the golden PyTorch
+// outputs, 16-bit activations alone cost 1.3-1.4e-3 (max abs score error at 752x480 and 1241x376), 16-bit
+// weights on top 7e-3-1e-2 (float64 simulation, tools/superpoint_fp16_error.py). The weights are a few MB; the
+// activations are what 16 bits save bandwidth on. fp16 math (fp16) rounds the weights to multiply them in 16 bits
+// anyway, so it keeps them in 16 bits.
+Precision conv_weight_precision(Precision activations);
+// The texel format the tiled convolutions read those weights through (4 output channels per texel).
+vk::Format conv_weight_texel_format(Precision activations);
+
 // Bytes of a buffer holding `shape` at `precision`.
 std::size_t activation_bytes(const ActivationShape& shape, Precision precision);
 
 // 3x3 (stride 1, pad 1; input must carry a 1-pixel zero border) or 1x1 convolution + bias (+ ReLU).
-// Weights in the "o4" layout (runtime/tensor_layout.hpp) at the op's storage precision; bias fp32, padded to 4.
+// Weights in the "o4" layout (runtime/tensor_layout.hpp) at conv_weight_precision(precision); bias fp32, padded
+// to 4.
 // Weights and bias may be ranges of one buffer (e.g. a model pack's data block bound at each tensor's offset).
 // Which shader runs a 3x3 convolution: `tiled` (conv3x3_tiled.comp: 8 output channels x 4 pixels x 3 rows per
 // invocation, operands read through texel buffers) where the device reads the texel formats it needs

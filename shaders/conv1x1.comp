@@ -8,7 +8,7 @@
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Input { sfloat src[]; };
-layout(std430, binding = 1) readonly buffer Weights { svec4 weights[]; };
+layout(std430, binding = 1) readonly buffer Weights { wvec4 weights[]; };
 layout(std430, binding = 2) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 3) writeonly buffer Output { sfloat dst[]; };
 

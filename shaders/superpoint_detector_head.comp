@@ -8,7 +8,7 @@
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Input { sfloat src[]; };   // I x Hc x Wc, no border
-layout(std430, binding = 1) readonly buffer Weights { svec4 weights[]; };
+layout(std430, binding = 1) readonly buffer Weights { wvec4 weights[]; };
 layout(std430, binding = 2) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 3) writeonly buffer Scores { float dense[]; };  // (Hc*8) x (Wc*8)
 

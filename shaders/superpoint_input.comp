@@ -1,6 +1,7 @@
 #version 450
-// SuperPoint input: an 8-bit grayscale image (four pixels packed per uint, row-major) -> one-channel tensor
-// pixel / 255 with the 1-pixel zero border conv1a reads (the border is never written: it stays zero).
+// SuperPoint input: an 8-bit grayscale image (four pixels packed per uint, row-major) -> one-channel tensor of
+// the pixel values 0-255 (exact in 16 bits, where pixel / 255 is not; the host folds SuperPoint's 1/255 into
+// conv1a's weights), with the 1-pixel zero border conv1a reads (never written: it stays zero).
 #include "precision.glsl"
 #include "tensor.glsl"
 
@@ -18,5 +19,5 @@ void main() {
   const uint i = gl_GlobalInvocationID.x;
   if (i >= p.width * p.height) return;
   const uint value = (pixels[i >> 2u] >> (8u * (i & 3u))) & 0xffu;
-  dst[chw_index(0u, i / p.width, i % p.width, p.height, p.width, 1u)] = sfloat(float(value) / 255.0);
+  dst[chw_index(0u, i / p.width, i % p.width, p.height, p.width, 1u)] = sfloat(float(value));
 }

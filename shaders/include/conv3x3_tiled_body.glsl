@@ -10,7 +10,7 @@
 // once from the cache.
 //
 // The input and the weights are read through uniform texel buffers (RGBA32F/RGBA16F views chosen by the host
-// for the storage precision): lavapipe fetches texels with vector gathers, where it loads storage buffers one
+// for the storage precisions of each, rt::conv_weight_precision): lavapipe fetches texels with vector gathers, where it loads storage buffers one
 // lane at a time behind a branch, which made the loads, not the FMAs, the bottleneck. A texel fetch costs
 // lavapipe the same call whatever the format, so the input is read 4 pixels per texel: bordered rows are padded
 // to whole texels (tensor.glsl) and an invocation's 6-column window row is 2 fetches, not 6.

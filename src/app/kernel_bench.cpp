@@ -56,6 +56,7 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
   };
   const bool timestamps = ctx.caps().timestamps;
   const double elem = double(rt::storage_bytes(precision));
+  const rt::Precision weight_precision = rt::conv_weight_precision(precision);  // the convolutions' weights
   std::vector<BenchResult> results;
   const auto name = std::string(rt::to_string(precision));
 
@@ -79,10 +80,10 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
       const rt::ActivationShape out{c.out_c, c.h, c.w, 1};
       rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));
       rt::Buffer out_buf(ctx, rt::activation_bytes(out, precision));
-      rt::Buffer w_buf(ctx, rt::round_up(c.out_c, 4) * c.in_c * c.k * c.k * rt::storage_bytes(precision));
+      rt::Buffer w_buf(ctx, rt::round_up(c.out_c, 4) * c.in_c * c.k * c.k * rt::storage_bytes(weight_precision));
       rt::Buffer b_buf(ctx, rt::round_up(c.out_c, 4) * sizeof(float));
       fill_random(in_buf, precision, 1);
-      fill_random(w_buf, precision, 2);
+      fill_random(w_buf, weight_precision, 2);
       b_buf.fill_zero();
       const rt::Conv2d conv(ctx, precision, c.k, kernel);
       rt::Sequence seq(ctx);
@@ -103,10 +104,10 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     const rt::ActivationShape in{64, 480, 752, 1}, out{64, 240, 376, 1};
     rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision));
     rt::Buffer out_buf(ctx, rt::activation_bytes(out, precision));
-    rt::Buffer w_buf(ctx, std::size_t(64) * 64 * 9 * rt::storage_bytes(precision));
+    rt::Buffer w_buf(ctx, std::size_t(64) * 64 * 9 * rt::storage_bytes(weight_precision));
     rt::Buffer b_buf(ctx, 64 * sizeof(float));
     fill_random(in_buf, precision, 1);
-    fill_random(w_buf, precision, 2);
+    fill_random(w_buf, weight_precision, 2);
     b_buf.fill_zero();
     const rt::Conv3x3MaxPool op(ctx, precision);
     rt::Sequence seq(ctx);

@@ -41,14 +41,16 @@ void check_conv(Precision precision, const ConvCase& c, std::uint32_t seed,
                 Conv3x3Kernel kernel = Conv3x3Kernel::direct) {
   auto& ctx = gpu();
   const auto input = as_stored(random_values(std::size_t(c.in_c) * c.h * c.w, seed), precision);
-  const auto weights = as_stored(random_values(std::size_t(c.out_c) * c.in_c * c.k * c.k, seed + 1, -0.5f, 0.5f), precision);
+  const Precision weight_precision = conv_weight_precision(precision);
+  const auto weights =
+      as_stored(random_values(std::size_t(c.out_c) * c.in_c * c.k * c.k, seed + 1, -0.5f, 0.5f), weight_precision);
   const auto bias = random_values(c.out_c, seed + 2);
   const auto expected = reference_conv(input, weights, bias, c.in_c, c.out_c, c.h, c.w, c.k, c.relu);
 
   const ActivationShape in{std::uint32_t(c.in_c), std::uint32_t(c.h), std::uint32_t(c.w), std::uint32_t(c.in_pad)};
   const ActivationShape out{std::uint32_t(c.out_c), std::uint32_t(c.h), std::uint32_t(c.w), std::uint32_t(c.out_pad)};
   auto in_buf = test::upload_tensor(ctx, add_border(input, c.in_c, c.h, c.w, c.in_pad), precision);
-  auto w_buf = test::upload_tensor(ctx, pack_conv_o4(weights, c.out_c, c.in_c, c.k, c.k), precision);
+  auto w_buf = test::upload_tensor(ctx, pack_conv_o4(weights, c.out_c, c.in_c, c.k, c.k), weight_precision);
   Buffer b_buf(ctx, round_up(c.out_c, 4) * sizeof(float));
   b_buf.upload(std::span<const float>(pad_bias_o4(bias)));
   Buffer out_buf(ctx, activation_bytes(out, precision));
@@ -95,7 +97,8 @@ TEST_P(Kernels, Conv3x3TiledKernelMatchesReference) {
 void check_conv_max_pool(Precision precision, const ConvCase& c, std::uint32_t seed) {
   auto& ctx = gpu();
   const auto input = as_stored(random_values(std::size_t(c.in_c) * c.h * c.w, seed), precision);
-  const auto weights = as_stored(random_values(std::size_t(c.out_c) * c.in_c * 9, seed + 1, -0.5f, 0.5f), precision);
+  const Precision weight_precision = conv_weight_precision(precision);
+  const auto weights = as_stored(random_values(std::size_t(c.out_c) * c.in_c * 9, seed + 1, -0.5f, 0.5f), weight_precision);
   const auto bias = random_values(c.out_c, seed + 2);
   const auto conv = reference_conv(input, weights, bias, c.in_c, c.out_c, c.h, c.w, 3, c.relu);
   const auto expected = reference_max_pool(conv, c.out_c, c.h, c.w);
@@ -104,7 +107,7 @@ void check_conv_max_pool(Precision precision, const ConvCase& c, std::uint32_t s
   const ActivationShape in{std::uint32_t(c.in_c), std::uint32_t(c.h), std::uint32_t(c.w), 1};
   const ActivationShape out{std::uint32_t(c.out_c), std::uint32_t(oh), std::uint32_t(ow), std::uint32_t(c.out_pad)};
   auto in_buf = test::upload_tensor(ctx, add_border(input, c.in_c, c.h, c.w, 1), precision);
-  auto w_buf = test::upload_tensor(ctx, pack_conv_o4(weights, c.out_c, c.in_c, 3, 3), precision);
+  auto w_buf = test::upload_tensor(ctx, pack_conv_o4(weights, c.out_c, c.in_c, 3, 3), weight_precision);
   Buffer b_buf(ctx, round_up(c.out_c, 4) * sizeof(float));
   b_buf.upload(std::span<const float>(pad_bias_o4(bias)));
   Buffer out_buf(ctx, activation_bytes(out, precision));

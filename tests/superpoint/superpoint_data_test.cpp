@@ -1,11 +1,10 @@
 // SuperPoint on the device against the PyTorch golden outputs (/work/shared/golden/superpoint, fp32 CPU), in
-// every precision the device supports, with the tolerances of golden/README.md:
-//   dense scores max abs error <= 2e-3; dense descriptors cosine >= 0.999 per cell (fp32; the fp16-storage
-//   variants have wider dense tolerances, see DenseTolerance);
+// every precision the device supports and every case (fp16's 16-bit arithmetic is emulated on lavapipe: 6-9 s
+// per full-size case), with the tolerances of golden/README.md:
+//   dense scores max abs error <= 2e-3; dense descriptors cosine >= 0.999 per cell (fp32 and fp16s; fp16 has
+//   wider dense tolerances, see DenseTolerance);
 //   >= 95% of reference keypoints found within 1 px; descriptor cosine >= 0.995 for those matches.
-// fp16 arithmetic is emulated (~7x slower) on lavapipe, so fp16 runs the 160x120 crops only when the device is a
-// CPU; fp32 and fp16s run every case. Also: the same image at 25% brightness keeps >= 70% of its top-400
-// keypoints within 2 px.
+// Also: the same image at 25% brightness keeps >= 70% of its top-400 keypoints within 2 px.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -94,24 +93,25 @@ Golden load_golden(const fs::path& dir) {
 struct Case {
   const char* name;
   rt::Precision precision;
-  bool full_size;
 };
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name << " " << rt::to_string(c.precision); }
 
-// Dense-output tolerances. fp32: golden/README.md's (max abs score error 2e-3, descriptor cosine 0.999). The
-// fp16-storage variants do not reach them and are held to what fp16 activations allow: measured dense score
-// errors 3.4e-3 (crops) / 1.0e-2 (752x480) for fp16s and 5.5e-3 / 8.2e-3 (crops) for fp16, descriptor cosine
-// >= 0.9980 in the worst cell (KITTI; 0.99800 or 0.99813 depending only on the order in which conv3x3_tiled
-// sums its taps, both orders being equally exact in fp32: the bound 0.997 leaves room for such reorderings). Keeping the detector head (convPa, convPb, softmax) in fp32 storage was tried and changed the
-// error by < 3%: it comes from the encoder's fp16 activations (rounded after each of 8 layers; a logit off by
-// 0.02 moves a score near 0.5 by 5e-3). The keypoint checks (recall, descriptor cosine) are the README's for
-// every variant.
+// Dense-output tolerances: golden/README.md's (max abs score error 2e-3, descriptor cosine 0.999) for fp32 and
+// fp16s. fp16s stores the activations in 16 bits and keeps the weights in fp32 (rt::conv_weight_precision) with
+// the input as exact pixel values (shaders/superpoint_input.comp): measured 0.95-1.7e-3 and cosines >= 0.99999 on
+// the five cases. Until 2026-12-03 it stored 16-bit weights and pixel / 255 in 16 bits and measured 3.4e-3 on the
+// crops and 1.0e-2 at 752x480 (descriptor cosine 0.998): a float64 simulation of the network
+// (tools/superpoint_fp16_error.py) put 16-bit activations alone at 1.3-1.4e-3 at full size, 16-bit weights at
+// 7e-3-1e-2, conv1a's the most. fp16 multiplies in 16 bits, so its weights are rounded to 16 bits whatever they
+// are stored as: measured 3.7e-3 / 5.3e-3 on the crops, 8.8e-3-2.0e-2 at full size, descriptor cosine down to
+// 0.9948 (KITTI). It is held to that, with room: it misses the README's dense acceptance (the project README
+// says so). The keypoint checks (recall, descriptor cosine) are the README's for every variant.
 struct DenseTolerance {
   float score_max_abs;
   float descriptor_min_cosine;
 };
 DenseTolerance dense_tolerance(rt::Precision precision) {
-  return precision == rt::Precision::fp32 ? DenseTolerance{2e-3f, 0.999f} : DenseTolerance{1.5e-2f, 0.997f};
+  return precision != rt::Precision::fp16 ? DenseTolerance{2e-3f, 0.999f} : DenseTolerance{2.5e-2f, 0.993f};
 }
 
 class SuperPointGolden : public ::testing::TestWithParam<Case> {};
@@ -122,8 +122,6 @@ TEST_P(SuperPointGolden, MatchesPyTorchReference) {
   VKVO_REQUIRE_DATA(dir, fs::path("golden/superpoint") / c.name);
   auto& gpu = test::gpu();
   if (!gpu.caps().supports(c.precision)) GTEST_SKIP() << gpu.caps().name << " lacks " << rt::to_string(c.precision);
-  if (c.precision == rt::Precision::fp16 && c.full_size && gpu.caps().type == "cpu")
-    GTEST_SKIP() << "fp16 arithmetic is emulated on CPU devices; the crop cases cover it";
 
   const Golden g = load_golden(dir);
   ASSERT_FALSE(g.image.empty());
@@ -186,8 +184,8 @@ TEST_P(SuperPointGolden, MatchesPyTorchReference) {
 std::vector<Case> all_cases() {
   std::vector<Case> cases;
   for (const auto p : {rt::Precision::fp32, rt::Precision::fp16s, rt::Precision::fp16}) {
-    for (const char* name : {"euroc_0000_crop", "euroc_0005_crop"}) cases.push_back({name, p, false});
-    for (const char* name : {"euroc_0000", "euroc_0005", "kitti01_0000"}) cases.push_back({name, p, true});
+    for (const char* name : {"euroc_0000_crop", "euroc_0005_crop", "euroc_0000", "euroc_0005", "kitti01_0000"})
+      cases.push_back({name, p});
   }
   return cases;
 }

@@ -69,7 +69,14 @@ struct Tolerance {
   float score_abs, desc_cos;
 };
 Tolerance tolerance(rt::Precision p) {
-  return p == rt::Precision::fp32 ? Tolerance{2e-5f, 0.99999f} : Tolerance{3e-3f, 0.998f};
+  // fp16s (16-bit activations, fp32 weights) measured 5.7-8.9e-4 and cosines above 0.99999 here; fp16 also
+  // multiplies in 16 bits with 16-bit weights.
+  switch (p) {
+    case rt::Precision::fp32: return {2e-5f, 0.99999f};
+    case rt::Precision::fp16s: return {2e-3f, 0.9999f};
+    case rt::Precision::fp16: return {3e-3f, 0.998f};
+  }
+  return {};
 }
 
 class SuperPointRandom : public ::testing::TestWithParam<rt::Precision> {
@@ -85,7 +92,8 @@ class SuperPointRandom : public ::testing::TestWithParam<rt::Precision> {
 // texel-buffer kernels (the default where the device reads them) with and (fp32) without Winograd convolutions
 // (both tile sizes), and with the storage-buffer fallback. 30 cells: the tiled detector head's last invocation (4
 // cells each) is partial; every layer leaves partial 4 x 4 and 6 x 6 Winograd tiles; convDb's planes do not fill
-// whole texels, so it runs conv1x1_tiled. 40 cells fill them: convDb then runs as a GEMM on CPU devices.
+// whole texels, so it runs conv1x1_tiled. 40 cells fill them: convDb then runs as a GEMM on CPU devices (not in
+// fp16s, whose weights are stored in fp32).
 TEST_P(SuperPointRandom, DenseOutputsMatchReference) {
   using Winograd = SuperPointParams::Winograd;
   if (GetParam() == rt::Precision::fp32) {
@@ -137,7 +145,10 @@ void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams:
       return t.label == "convDb gemm";
     });
     const std::size_t cells = std::size_t(width / 8) * (height / 8);
-    EXPECT_EQ(ran_gemm, tiled && cpu && cells % 8 == 0) << "convDb as a GEMM on CPU devices, planes of whole texels";
+    // Not where the weights are stored wider than the activations (fp16s): the GEMM reads both in one format.
+    const bool same_storage = rt::conv_weight_precision(GetParam()) == GetParam();
+    EXPECT_EQ(ran_gemm, tiled && cpu && same_storage && cells % 8 == 0)
+        << "convDb as a GEMM on CPU devices, planes of whole texels";
   }
   const reference::Dense ref = reference::forward(pack, image);
   ASSERT_EQ(dense.cells_h, height / 8);

@@ -69,7 +69,8 @@ constexpr SuperPointLayer kEncoderLevels[4][2] = {
 
 SuperPointConv find_conv(const io::ModelPack& pack, SuperPointLayer layer, rt::Precision precision) {
   const SuperPointConvSpec& expected = kSuperPointArchitecture[layer];
-  const io::DType dtype = precision == rt::Precision::fp32 ? io::DType::fp32 : io::DType::fp16;
+  const io::DType dtype =
+      rt::conv_weight_precision(precision) == rt::Precision::fp32 ? io::DType::fp32 : io::DType::fp16;
   const auto& w = pack.tensor(std::string(expected.name) + ".weight", dtype);
   const auto& b = pack.tensor(std::string(expected.name) + ".bias", io::DType::fp32);
   SuperPointConv conv{expected.name, expected.in, expected.out, expected.kernel, w.offset, w.byte_size, b.offset,
@@ -107,7 +108,7 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
       max_texel_elements(ctx.caps().max_texel_buffer_elements) {
   if (tiled && rt::tiled_kernels_available(ctx, p)) {
     rt::KernelSpec head = spec("superpoint_detector_head_tiled", p, 4, 1u << 3, sizeof(HeadPush));
-    head.texel_formats = {rt::activation_texel_format(p), rt::vec4_texel_format(p)};
+    head.texel_formats = {rt::activation_texel_format(p), rt::conv_weight_texel_format(p)};
     detector_head_tiled.emplace(ctx, std::move(head));
     conv_pool.emplace(ctx, p);
     nms_tiled.emplace(ctx, p, true);
@@ -118,11 +119,25 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
     convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
   block.upload(pack.data_block().data(), pack.data_block().size());
 
+  // The input plane holds the pixel values 0-255, exact at every storage precision, and SuperPoint's 1/255 is
+  // folded into conv1a's weights here: with 16-bit activations and fp32 weights, pixel / 255 rounded to 16 bits
+  // puts the golden crops' dense scores 2.0-4.9e-3 off the reference, exact pixels 0.8-1.2e-3 (float64
+  // simulation, tools/superpoint_fp16_error.py; fp16s measures 1.0-1.7e-3 on the crops and at full size).
+  {
+    const SuperPointConv& first = convs[conv1a];
+    std::vector<float> w = pack.floats(first.name + ".weight", io::DType::fp32);
+    for (float& v : w) v /= 255.0f;
+    rescaled_weights.add(conv1a, rt::encode_storage(w, rt::conv_weight_precision(p)));
+    rescaled_weights.upload(ctx, "superpoint.conv1a_weights");
+  }
+
   // 1x1 layers as GEMMs on CPU devices (rt::conv1x1_gemm_shape): convDb at 640x480 takes 68-78 ms in
   // conv1x1_tiled.comp, which reads one pixel per texel fetch, and 29-33 ms as a tiled GEMM (`vkvo bench --kernels
   // --filter 256`, three alternating runs on 2 Zen 3 cores). GPUs keep conv1x1_tiled until measured. The GEMM reads
-  // the weights as an O x I matrix, so those layers get a row-major copy.
-  if (tiled && rt::tiled_kernels_available(ctx, p) && ctx.caps().type == "cpu") {
+  // the weights as an O x I matrix, so those layers get a row-major copy. Its two operands share one texel
+  // format, so where the weights are stored wider than the activations (fp16s, rt::conv_weight_precision) the
+  // 1x1 layers stay on the convolution kernels.
+  if (tiled && rt::tiled_kernels_available(ctx, p) && ctx.caps().type == "cpu" && rt::conv_weight_precision(p) == p) {
     for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
       const SuperPointConv& c = convs[i];
       if (c.kernel != 1) continue;
@@ -187,6 +202,7 @@ rt::Binding SuperPointNetwork::winograd_weights(SuperPointLayer layer) const {
 }
 
 rt::Binding SuperPointNetwork::weights(SuperPointLayer layer) const {
+  if (rescaled_weights.has(layer)) return rescaled_weights.binding(layer);
   return {block, convs[layer].weight_offset, convs[layer].weight_bytes};
 }
 rt::Binding SuperPointNetwork::bias(SuperPointLayer layer) const {

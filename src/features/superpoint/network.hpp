@@ -35,8 +35,8 @@ struct NmsKernels {
   std::array<rt::Kernel, 4> colmax;
 };
 
-// Tensors derived from the pack when it is loaded, at most one per layer (Winograd filters, 1x1 weight matrices),
-// in one device buffer at 256-byte aligned offsets (texel views start there).
+// Tensors derived from the pack when it is loaded, at most one per layer (Winograd filters, 1x1 weight matrices,
+// conv1a's rescaled weights), in one device buffer at 256-byte aligned offsets (texel views start there).
 class DerivedLayerTensors {
  public:
   void add(SuperPointLayer layer, std::span<const std::byte> bytes);
@@ -68,6 +68,8 @@ struct SuperPointNetwork {
   rt::Precision precision;
   std::array<SuperPointConv, kSuperPointLayers> convs;
   rt::Buffer block;  // the pack's whole data block
+  // conv1a's weights / 255 (the input plane holds pixel values 0-255), at rt::conv_weight_precision.
+  DerivedLayerTensors rescaled_weights;
   rt::Conv2d conv3x3, conv1x1;
   rt::Kernel input, detector_head, l2norm, rank, sample;
   NmsKernels nms;
