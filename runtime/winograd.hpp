@@ -6,7 +6,7 @@
 // 3x3) 5.1x, for two extra passes over memory. fp32 only: F(4x4, 3x3)'s transforms scale values by up to 10 (input:
 // B^T's largest absolute row sum) and 19 (output: A^T's) per dimension, F(6x6, 3x3)'s by 12.5 and 67, more than
 // 16-bit storage's 11 bits can carry within the golden tolerances. Measured with SuperPoint's weights on the
-// golden EuRoC crops (tools/winograd_fp16_error.py): with only the transformed weights in 16 bits the dense scores
+// golden EuRoC crops (tools/superpoint_fp16_error.py): with only the transformed weights in 16 bits the dense scores
 // are 2.0-2.9e-3 (F(4x4)) and 7.9e-3-2.3e-2 (F(6x6)) off the reference, with only the transformed input 2.2-4.2e-3
 // and 4.4-6.9e-3, against the fp16 acceptance of 2e-3 that the direct kernels' 16-bit activations meet (0.9-1.1e-3).
 // (Halving the GEMMs' texel fetches that way would have been worth up to a quarter of their time on lavapipe.)

@@ -1,15 +1,20 @@
 #!/usr/bin/env python3
-"""Why vkvo's Winograd convolutions are fp32 only: SuperPoint's dense outputs when the Winograd operands are stored
-in 16 bits, against the golden PyTorch reference (../shared/golden/superpoint, real Magic Leap weights).
+"""What 16-bit storage costs SuperPoint's dense outputs, against the golden PyTorch reference
+(../shared/golden/superpoint, real Magic Leap weights), simulated in float64 with chosen tensors rounded to fp16.
 
-Each 3x3 convolution but conv1a (the stem, computed in the input transform) runs as F(m x m, 3x3) with the shaders'
-transform matrices, in float64 except where a variant rounds to fp16: the transformed input V = B^T d B, the
-transformed weights U = G g G^T, the GEMMs' products M, and the activations between layers (as vkvo's fp16s
-variant stores them). Prints the dense-score max abs error and the worst descriptor cosine per variant; the golden
-README's fp16 acceptance is <= 2e-3 and >= 0.999.
+Two questions, each a set of variants:
+- Why fp16s stores the convolution weights in fp32 and the input as exact pixel values (runtime/ops.hpp,
+  conv_weight_precision; shaders/superpoint_input.comp): direct convolutions with 16-bit activations, with and
+  without 16-bit weights and a 16-bit pixel / 255 input.
+- Why vkvo's Winograd convolutions are fp32 only: each 3x3 convolution but conv1a (the stem, computed in the input
+  transform) runs as F(m x m, 3x3) with the shaders' transform matrices, rounding to fp16 the transformed input
+  V = B^T d B, the transformed weights U = G g G^T and/or the GEMMs' products M.
+Prints the dense-score max abs error and the worst descriptor cosine per variant; the golden README's fp16
+acceptance is <= 2e-3 and >= 0.999.
 
-    /usr/bin/python3 tools/winograd_fp16_error.py [--data ../shared] [CASE ...]   (default: the two EuRoC crops)
+    /usr/bin/python3 tools/superpoint_fp16_error.py [--data ../shared] [CASE ...]   (default: the two EuRoC crops)
 Needs numpy, torch and PIL (Debian: python3-numpy, python3-torch, python3-pil); reads the ONNX file itself.
+A full-size case takes about a minute per variant on 2 cores.
 """
 import argparse
 import os
@@ -110,15 +115,20 @@ def winograd_conv(x, w, b, variant):
 
 
 def superpoint(image, weights, variant):
+    # The stem's output is stored (and rounded) where conv1a runs as its own layer, not inside a Winograd
+    # input transform.
+    stem_stored = not variant["m"]
+
     def conv(x, name, relu=True):
-        w, b = weights[name + ".weight"], weights[name + ".bias"]
+        w, b = stored(weights[name + ".weight"], variant.get("weights", False)), weights[name + ".bias"]
         if variant["m"] and w.shape[2] == 3 and name != "conv1a":
             y = winograd_conv(x, w, b, variant)
         else:
             y = F.conv2d(x[None], w, b, padding=w.shape[2] // 2)[0]
-        return stored(F.relu(y), variant["activations"] and name != "conv1a") if relu else y
+        rounded = variant["activations"] and (name != "conv1a" or stem_stored)
+        return stored(F.relu(y), rounded) if relu else y
 
-    x = image[None]
+    x = stored(image, variant.get("input", False))[None]
     for i, name in enumerate(["conv1a", "conv1b", "conv2a", "conv2b", "conv3a", "conv3b", "conv4a", "conv4b"]):
         x = conv(x, name)
         if i in (1, 3, 5):
@@ -139,13 +149,17 @@ def main():
     weights = {name: torch.from_numpy(a.copy()).double()
                for name, a in onnx_initializers(os.path.join(args.data, "models", "superpoint_v1.onnx")).items()}
     fp32 = dict(m=0, V=False, U=False, M=False, activations=False)  # m = 0: direct convolutions
-    variants = [("direct, fp32", fp32), ("direct, 16-bit activations (fp16s)", dict(fp32, activations=True)),
+    half_activations = dict(fp32, activations=True)
+    variants = [("direct, fp32", fp32), ("direct, 16-bit activations (fp16s)", half_activations),
+                ("direct, + 16-bit weights", dict(half_activations, weights=True)),
+                ("direct, + 16-bit input pixel / 255", dict(half_activations, input=True)),
+                ("direct, + both (fp16s before 2026-12-03)", dict(half_activations, weights=True, input=True)),
                 ("F(6x6), fp32", dict(fp32, m=6))]
     for m in (4, 6):
         variants += [(f"F({m}x{m}), 16-bit U", dict(fp32, m=m, U=True, activations=True)),
                      (f"F({m}x{m}), 16-bit V", dict(fp32, m=m, V=True, activations=True)),
                      (f"F({m}x{m}), 16-bit V, U, M", dict(fp32, m=m, V=True, U=True, M=True, activations=True))]
-    print(f"{'case':16s} {'variant':36s} {'score max abs':>13s} {'worst desc cos':>14s}")
+    print(f"{'case':16s} {'variant':42s} {'score max abs':>13s} {'worst desc cos':>14s}")
     for case in args.cases:
         folder = os.path.join(args.data, "golden", "superpoint", case)
         pixels = np.asarray(Image.open(os.path.join(folder, "image.png")).convert("L"), np.float64)
@@ -156,7 +170,7 @@ def main():
             scores, desc = superpoint(image, weights, variant)
             error = (scores - ref_scores).abs().max().item()
             cosine = (desc * ref_desc).sum(0).min().item()
-            print(f"{case:16s} {label:36s} {error:13.2e} {cosine:14.5f}", flush=True)
+            print(f"{case:16s} {label:42s} {error:13.2e} {cosine:14.5f}", flush=True)
 
 
 if __name__ == "__main__":
