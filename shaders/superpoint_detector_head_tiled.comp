@@ -1,13 +1,13 @@
 #version 450
-// superpoint_detector_head.comp (1x1 convolution 256 -> 65 + softmax + dustbin drop + depth-to-space, logits
-// fp32 in every variant) for devices that read the input and the weights through uniform texel buffers
-// (R32F/R16F input, RGBA32F/RGBA16F weights as the host chooses, as conv1x1_tiled.comp). Each invocation computes kCells adjacent
-// cells, so the 17 weight vectors of an input channel serve kCells cells; per step of 4 input channels all
-// operands are fetched first and then every logit takes its 4 products at once (on lavapipe each fetch is a call
-// that clobbers the vector registers, so the 4 x 68 logits live on the stack: updating them once per step, not
-// once per channel, is what keeps the stores from binding the kernel). Measured on lavapipe (Mesa 22.3, 2 Zen 3
-// cores), 256 channels at 80 x 60 cells: 342 ms with the storage-buffer kernel, 8 ms with this one.
-// The host guarantees in_channels % 4 == 0.
+// superpoint_detector_head.comp (1x1 convolution 256 -> 65 + softmax + dustbin drop + depth-to-space, logits fp32
+// in every variant) for devices that read the input and the weights through uniform texel buffers (R32F/R16F
+// input, RGBA32F/RGBA16F weights as the host chooses, as conv1x1_tiled.comp). Each invocation computes kCells
+// adjacent cells, so the 17 weight vectors of an input channel serve kCells cells; per step of 4 input channels
+// all operands are fetched first and then every logit takes its 4 products at once (on lavapipe each fetch is a
+// call that clobbers the vector registers, so the 4 x 68 logits live on the stack: updating them once per step,
+// not once per channel, is what keeps the stores from binding the kernel). Measured on lavapipe (Mesa 22.3, 2 Zen
+// 3 cores), 256 channels at 80 x 60 cells: 342 ms with the storage-buffer kernel, 8 ms with this one. The host
+// guarantees in_channels % 4 == 0.
 #include "texel_buffer.glsl"
 #extension GL_EXT_control_flow_attributes : require
 #include "precision.glsl"

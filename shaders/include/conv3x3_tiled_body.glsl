@@ -10,10 +10,11 @@
 // once from the cache.
 //
 // The input and the weights are read through uniform texel buffers (RGBA32F/RGBA16F views chosen by the host
-// for the storage precisions of each, rt::conv_weight_precision): lavapipe fetches texels with vector gathers, where it loads storage buffers one
-// lane at a time behind a branch, which made the loads, not the FMAs, the bottleneck. A texel fetch costs
-// lavapipe the same call whatever the format, so the input is read 4 pixels per texel: bordered rows are padded
-// to whole texels (tensor.glsl) and an invocation's 6-column window row is 2 fetches, not 6.
+// for the storage precision of each, rt::conv_weight_precision): lavapipe fetches texels with vector gathers,
+// where it loads storage buffers one lane at a time behind a branch, which made the loads, not the FMAs, the
+// bottleneck. A texel fetch costs lavapipe the same call whatever the format, so the input is read 4 pixels per
+// texel: bordered rows are padded to whole texels (tensor.glsl) and an invocation's 6-column window row is 2
+// fetches, not 6.
 //
 // Per input channel, all fetches come first and then the arithmetic, one output at a time with its 9 taps summed
 // before the accumulator is touched. On lavapipe every texel fetch is a call that clobbers the vector registers,
