@@ -38,19 +38,26 @@ PointMatches brute_force(const PointFeatures& a, const PointFeatures& b, const N
   return out;
 }
 
+// Plants slightly perturbed copies of a's first `count` descriptors in b, a's keypoint i at b's index perm[i]
+// (a random permutation of b's indices); returns perm.
+std::vector<int> plant_copies(const PointFeatures& a, int count, PointFeatures& b, std::mt19937& rng) {
+  std::vector<int> perm(b.size());
+  std::iota(perm.begin(), perm.end(), 0);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  std::normal_distribution<float> noise(0.0f, 0.02f);
+  for (int i = 0; i < count; ++i) {
+    for (Eigen::Index c = 0; c < a.descriptors.cols(); ++c)
+      b.descriptors(perm[std::size_t(i)], c) = a.descriptors(i, c) + noise(rng);
+    b.descriptors.row(perm[std::size_t(i)]).normalize();
+  }
+  return perm;
+}
+
 TEST(NnMatcher, FindsPlantedCorrespondences) {
   std::mt19937 rng(3);
   const PointFeatures a = test::random_features(120, 256, rng);
   PointFeatures b = test::random_features(150, 256, rng);
-  // Keypoint i of a is planted at b's index perm[i] (slightly perturbed) for the first 80; the rest are unrelated.
-  std::vector<int> perm(150);
-  std::iota(perm.begin(), perm.end(), 0);
-  std::shuffle(perm.begin(), perm.end(), rng);
-  std::normal_distribution<float> noise(0.0f, 0.02f);
-  for (int i = 0; i < 80; ++i) {
-    for (int c = 0; c < 256; ++c) b.descriptors(perm[i], c) = a.descriptors(i, c) + noise(rng);
-    b.descriptors.row(perm[i]).normalize();
-  }
+  const std::vector<int> perm = plant_copies(a, 80, b, rng);  // the other 40 of a are unrelated
   NnMatcher matcher(gpu());
   const PointMatches m = matcher.match(a, b);
   EXPECT_TRUE(matcher.last_timings().empty()) << "no timestamps unless profiling";
@@ -103,6 +110,20 @@ TEST(NnMatcher, EmptyAndSingleSets) {
   EXPECT_TRUE(matcher.match(empty, one).matches0.empty());
   EXPECT_EQ(matcher.match(one, empty).matches0, std::vector<int>{-1});
   EXPECT_EQ(matcher.match(one, one).matches0, std::vector<int>{0}) << "ratio test skipped with one candidate";
+}
+
+// The largest sets the matchers are built for (2048 x 2048, 256 dimensions): planted pairs found, and the whole
+// answer equal to brute force.
+TEST(NnMatcher, LargestSets) {
+  std::mt19937 rng(6);
+  const PointFeatures a = test::random_features(2048, 256, rng);
+  PointFeatures b = test::random_features(2048, 256, rng);
+  const std::vector<int> perm = plant_copies(a, 1500, b, rng);
+  NnMatcher matcher(gpu());
+  const PointMatches m = matcher.match(a, b);
+  ASSERT_EQ(m.matches0.size(), 2048u);
+  for (int i = 0; i < 1500; ++i) EXPECT_EQ(m.matches0[std::size_t(i)], perm[std::size_t(i)]) << "planted keypoint " << i;
+  EXPECT_EQ(m.matches0, brute_force(a, b, {}).matches0);
 }
 
 TEST(NnMatcher, LoadsYamlSection) {

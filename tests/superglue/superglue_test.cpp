@@ -180,6 +180,26 @@ TEST_P(SuperGlueRandom, HeadsNarrowerThanAPackedTexel) {
   }
 }
 
+// The largest sets the matcher is built for, N = M = 2048 (2049 lines of couplings with the dustbins): every
+// buffer, texel view and dispatch grid at its largest, and the per-dispatch Sinkhorn rather than the fused one.
+// A shallow network (32 dimensions, one self and one cross layer) and 20 Sinkhorn iterations keep the double
+// reference to seconds: the sizes are under test here, the depth is in the tests above.
+TEST_P(SuperGlueRandom, LargestSets) {
+  test::RandomSuperGlueSpec spec;
+  spec.cross = {false, true};
+  spec.sinkhorn_iterations = 20;
+  spec.proj_gain = 8.0;  // peaked enough among 2048 candidates for matches above the 0.2 threshold
+  const auto pack = test::random_superglue_pack(spec);
+  SuperGlue net(gpu(), pack, params());
+  net.set_profiling(true);
+  const auto [a, b] = make_pair(2048, 2048, 32, 6);
+  expect_matches_reference(net, pack, a, b, tolerance(), GetParam() == rt::Precision::fp32 ? 1.0 : 0.9);
+  const bool texel_sinkhorn = gpu().supports_uniform_texel_format(vk::Format::eR32G32B32A32Sfloat);
+  if (gpu().caps().timestamps && texel_sinkhorn) {
+    EXPECT_EQ(sinkhorn_dispatches(net.last_timings()), 2 * 20) << "a dispatch per half-iteration at this size";
+  }
+}
+
 TEST_P(SuperGlueRandom, EdgeCases) {
   const auto pack = test::random_superglue_pack({});
   SuperGlue net(gpu(), pack, params());
