@@ -5,7 +5,7 @@
 Two questions, each a set of variants:
 - Why fp16s stores the convolution weights in fp32 and the input as exact pixel values (runtime/ops.hpp,
   conv_weight_precision; shaders/superpoint_input.comp): direct convolutions with 16-bit activations, with and
-  without 16-bit weights and a 16-bit pixel / 255 input.
+  without 16-bit weights (in every layer, or in all but the full-resolution ones) and a 16-bit pixel / 255 input.
 - Why vkvo's Winograd convolutions are fp32 only: each 3x3 convolution but conv1a (the stem, computed in the input
   transform) runs as F(m x m, 3x3) with the shaders' transform matrices, rounding to fp16 the transformed input
   V = B^T d B, the transformed weights U = G g G^T and/or the GEMMs' products M.
@@ -120,7 +120,8 @@ def superpoint(image, weights, variant):
     stem_stored = not variant["m"]
 
     def conv(x, name, relu=True):
-        w, b = stored(weights[name + ".weight"], variant.get("weights", False)), weights[name + ".bias"]
+        half_weights = variant.get("weights", False) and name not in variant.get("fp32_weights", ())
+        w, b = stored(weights[name + ".weight"], half_weights), weights[name + ".bias"]
         if variant["m"] and w.shape[2] == 3 and name != "conv1a":
             y = winograd_conv(x, w, b, variant)
         else:
@@ -152,6 +153,9 @@ def main():
     half_activations = dict(fp32, activations=True)
     variants = [("direct, fp32", fp32), ("direct, 16-bit activations (fp16s)", half_activations),
                 ("direct, + 16-bit weights", dict(half_activations, weights=True)),
+                ("direct, + 16-bit weights but conv1a's", dict(half_activations, weights=True, fp32_weights={"conv1a"})),
+                ("direct, + 16-bit weights but conv1a/1b's",
+                 dict(half_activations, weights=True, fp32_weights={"conv1a", "conv1b"})),
                 ("direct, + 16-bit input pixel / 255", dict(half_activations, input=True)),
                 ("direct, + both (fp16s before 2026-12-03)", dict(half_activations, weights=True, input=True)),
                 ("F(6x6), fp32", dict(fp32, m=6))]
