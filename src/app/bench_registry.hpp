@@ -15,6 +15,8 @@ struct BenchOptions {
   std::string winograd = "auto";          // --winograd: SuperPoint's 3x3 convolutions (auto | on | off)
   int winograd_tile = 0;                  // --winograd-tile: 4 or 6 (0: SuperPointParams' default)
   std::vector<std::size_t> keypoints{200, 400, 1000};  // --keypoints: SuperGlue's N = M
+  std::string attention = "auto";         // --attention: SuperGlue's fused attention (auto | shared | registers)
+  std::string sinkhorn = "auto";          // --sinkhorn: SuperGlue's Sinkhorn (auto | fused | dispatches)
 };
 
 struct NetworkBench {

@@ -30,10 +30,14 @@ int run(const rt::Context& context, const app::BenchOptions& options) {
   }
   const auto pack = io::ModelPack::load(options.model, io::NetworkKind::superglue);
   for (rt::Precision precision : options.precisions) {
-    features::SuperGlue net(context, pack, {.precision = precision});
+    features::SuperGlueParams params{.precision = precision};
+    if (options.attention != "auto") params.shared_attention = options.attention == "shared";
+    if (options.sinkhorn != "auto") params.fused_sinkhorn = options.sinkhorn == "fused";
+    features::SuperGlue net(context, pack, params);
     const int dim = net.config().descriptor_dim;
-    fmt::print("\nSuperGlue ({} layers, {} Sinkhorn iterations), precision {}\n", net.config().cross_layers.size(),
-               net.config().sinkhorn_iterations, rt::to_string(precision));
+    fmt::print("\nSuperGlue ({} layers, {} Sinkhorn iterations), precision {}, attention {}\n",
+               net.config().cross_layers.size(), net.config().sinkhorn_iterations, rt::to_string(precision),
+               net.attention_form());
     fmt::print("{:>6} {:>10} {:>9} {:>10} {:>9}\n", "N=M", "wall ms", "GFLOP", "GFLOP/s", "matches");
     std::mt19937 rng(1);
     for (std::size_t n : options.keypoints) {

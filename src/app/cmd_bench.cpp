@@ -24,6 +24,7 @@ struct Options {
   std::string winograd = "auto";
   int winograd_tile = 0;
   std::vector<std::size_t> keypoints{200, 400, 1000};
+  std::string attention = "auto", sinkhorn = "auto";
   std::vector<std::string> networks;  // names of the --<network> flags given
 };
 
@@ -57,7 +58,8 @@ int run(const Options& options) {
       for (const auto& result : vkvo::app::bench_kernels(context, p, options.repeat, options.filter)) vkvo::app::print_bench_row(result);
   }
   const vkvo::app::BenchOptions bench_options{options.repeat, precisions, options.model, options.winograd,
-                                              options.winograd_tile, options.keypoints};
+                                              options.winograd_tile, options.keypoints, options.attention,
+                                              options.sinkhorn};
   for (const auto& bench : vkvo::app::network_bench_registry())
     if (std::find(options.networks.begin(), options.networks.end(), bench.name) != options.networks.end())
       status |= bench.run(context, bench_options);
@@ -79,6 +81,12 @@ vkvo::app::CommandRegistration registration{
            ->check(CLI::IsMember({4, 6}));
        sub.add_option("--keypoints", options->keypoints, "SuperGlue: keypoints per image, N = M (default: 200 400 1000)")
            ->check(CLI::Range(std::size_t{1}, std::size_t{2048}));
+       sub.add_option("--attention", options->attention,
+                      "SuperGlue's fused attention: shared-memory tiles (GPUs' choice) or rows in registers (CPUs')")
+           ->check(CLI::IsMember({"auto", "shared", "registers"}));
+       sub.add_option("--sinkhorn", options->sinkhorn,
+                      "SuperGlue's Sinkhorn: one fused workgroup (up to 1023 keypoints) or two dispatches per iteration")
+           ->check(CLI::IsMember({"auto", "fused", "dispatches"}));
        sub.add_option("--filter", options->filter, "kernel table: only kernels whose name contains this (e.g. gemm)");
        for (const auto& bench : vkvo::app::network_bench_registry())
          sub.add_flag_callback("--" + bench.name, [options, name = bench.name] { options->networks.push_back(name); },

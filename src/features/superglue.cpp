@@ -29,6 +29,14 @@ std::uint32_t attention_rows(const rt::Context& context, int chosen) {
   return context.caps().type == "cpu" ? 8 : 4;
 }
 
+// Shared memory of superglue_attention_shared.comp (its tile sizes): the key tile with a spare vec4 per row, the
+// value tile, and 16 rows x 33 scores.
+std::size_t shared_attention_bytes(std::uint32_t head_dim) {
+  constexpr std::size_t kTileKeys = 32, kRows = 16, kVec4 = 16;
+  const std::size_t head_vec4 = head_dim / 4;
+  return kTileKeys * (head_vec4 + 1) * kVec4 + kTileKeys * head_vec4 * kVec4 + kRows * (kTileKeys + 1) * 4;
+}
+
 }  // namespace
 
 SuperGlueParams load_superglue_params(const YAML::Node& section) {
@@ -98,7 +106,7 @@ struct SuperGlue::Impl {
   std::optional<rt::Kernel> couplings_pad_kernel, sinkhorn_tiled_kernel, sinkhorn_fused_kernel;
   // The fused attention and the score matrix through texel views of the storage precision, where the device
   // reads them.
-  std::optional<rt::Kernel> attention_tiled_kernel, scores_tiled_kernel;
+  std::optional<rt::Kernel> attention_tiled_kernel, attention_shared_kernel, scores_tiled_kernel;
   std::uint32_t attention_rows_per_invocation = 0;  // of attention_tiled_kernel
 
   // Per-size state: buffers and the recorded sequence, reused while (n0, n1) stays the same.
@@ -137,8 +145,16 @@ struct SuperGlue::Impl {
     iterations = params.sinkhorn_iterations > 0 ? params.sinkhorn_iterations : config.sinkhorn_iterations;
     attention_rows_per_invocation = attention_rows(ctx, params.attention_rows);
     const std::uint32_t head_dim = std::uint32_t(config.descriptor_dim / config.heads);
-    if (params.texel_kernels && ctx.supports_uniform_texel_format(rt::packed_texel_format(precision)) &&
-        head_dim % rt::values_per_packed_texel(precision) == 0)
+    const bool fused_attention = params.texel_kernels &&
+                                 ctx.supports_uniform_texel_format(rt::packed_texel_format(precision)) &&
+                                 head_dim % rt::values_per_packed_texel(precision) == 0;
+    if (fused_attention && params.shared_attention.value_or(ctx.caps().type != "cpu") &&
+        shared_attention_bytes(head_dim) <= ctx.caps().max_shared_memory_bytes)
+      attention_shared_kernel.emplace(
+          ctx, rt::KernelSpec{.op = "superglue_attention_shared", .precision = precision, .bindings = 2,
+                              .written_bindings = 1u << 1, .push_constant_bytes = 24, .specialization = {head_dim / 4},
+                              .texel_formats = {rt::packed_texel_format(precision)}});
+    else if (fused_attention)
       attention_tiled_kernel.emplace(
           ctx, rt::KernelSpec{.op = "superglue_attention_tiled", .precision = precision, .bindings = 2,
                               .written_bindings = 1u << 1, .push_constant_bytes = 24,
@@ -275,17 +291,23 @@ struct SuperGlue::Impl {
   }
 
   // Multi-head attention of keypoint set `a` (queries) over set `src` (keys, values); the heads' outputs go to the
-  // message half of `a`'s state rows. One fused pass where qkv fits a texel view (superglue_attention_tiled.comp:
-  // the scores are never stored), else q.k GEMM, softmax in place, p.v GEMM through `scores`.
+  // message half of `a`'s state rows. One fused pass where qkv fits a texel view (superglue_attention_shared.comp
+  // on GPUs, superglue_attention_tiled.comp elsewhere: the scores are never stored), else q.k GEMM, softmax in
+  // place, p.v GEMM through `scores`.
   void attention(int a, int src, const rt::Buffer& scores, const std::string& label) {
     const std::uint32_t dim = config.descriptor_dim, heads = config.heads, head_dim = dim / heads;
     const std::uint32_t rows_a = a == 0 ? n0 : n1, rows_s = src == 0 ? n0 : n1;
     const std::uint32_t first_a = a == 0 ? 0 : n0, first_s = src == 0 ? 0 : n0;
+    struct AttentionPush {
+      std::uint32_t queries, keys, query_row0, key_row0, dim;
+      float scale;
+    } push{rows_a, rows_s, first_a, first_s, dim, 1.0f / std::sqrt(float(head_dim))};
+    if (attention_shared_kernel && fits_texel_view(*qkv, rt::kPackedTexelBytes)) {
+      seq->dispatch(*attention_shared_kernel, {rt::Binding(*qkv), rt::Binding(*state)}, push,
+                    {rt::groups_for(rows_a, 16), heads, 1}, label);
+      return;
+    }
     if (attention_tiled_kernel && fits_texel_view(*qkv, rt::kPackedTexelBytes)) {
-      struct AttentionPush {
-        std::uint32_t queries, keys, query_row0, key_row0, dim;
-        float scale;
-      } push{rows_a, rows_s, first_a, first_s, dim, 1.0f / std::sqrt(float(head_dim))};
       seq->dispatch(*attention_tiled_kernel, {rt::Binding(*qkv), rt::Binding(*state)}, push,
                     {rt::groups_for(rt::groups_for(rows_a, attention_rows_per_invocation), 16), heads, 1}, label);
       return;
@@ -411,6 +433,9 @@ SuperGlue::~SuperGlue() = default;
 
 rt::Precision SuperGlue::precision() const { return impl_->precision; }
 const SuperGlueConfig& SuperGlue::config() const { return impl_->config; }
+std::string SuperGlue::attention_form() const {
+  return impl_->attention_shared_kernel ? "shared" : impl_->attention_tiled_kernel ? "registers" : "three-pass";
+}
 void SuperGlue::set_profiling(bool on) {
   if (on == impl_->profiling) return;
   impl_->profiling = on;

@@ -35,6 +35,11 @@ struct SuperGlueParams {
   bool texel_kernels = true;
   // Query rows per invocation of the fused attention, 1-16; 0: the device's choice (8 on CPUs, 4 on GPUs).
   int attention_rows = 0;
+  // The fused attention's GPU form (superglue_attention_shared.comp: a workgroup of 16 query rows shares each tile of
+  // keys and values through shared memory, 4 invocations per row) rather than the register-held rows above, where
+  // the fused attention runs and the device has the shared memory. nullopt: the device's choice (GPUs; CPUs keep
+  // the register form, faster there); true / false: forced.
+  std::optional<bool> shared_attention;
   // All Sinkhorn iterations in one workgroup (superglue_sinkhorn_fused.comp) rather than two dispatches each, where
   // the texel-buffer Sinkhorn runs and both sets have at most 1023 keypoints. nullopt: the device's choice (CPU
   // devices, for small couplings matrices: see superglue.cpp); true: whenever it can; false: never.
@@ -69,6 +74,9 @@ class SuperGlue final : public PointMatcher {
 
   rt::Precision precision() const;
   const SuperGlueConfig& config() const;
+  // The attention's form where qkv fits a texel view: "shared" (superglue_attention_shared.comp), "registers"
+  // (superglue_attention_tiled.comp) or "three-pass" (q.k GEMM, softmax, p.v GEMM).
+  std::string attention_form() const;
   // Per-dispatch GPU times of the last call: empty unless profiling is on (and the device has timestamps), or
   // when N or M was 0. Off by default: a timestamp after each of the ~300 dispatches costs lavapipe about 6 % of
   // a call at N = M = 200 (rt::Sequence). Takes effect at the next match().

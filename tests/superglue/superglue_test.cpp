@@ -136,15 +136,28 @@ TEST_P(SuperGlueRandom, SingleSelfAndCrossAttentionLayers) {
     spec.seed = cross ? 11 : 12;
     spec.proj_gain = 8.0;  // scores = gain^2 cos / sqrt(64): strong enough to beat the bin score
     const auto pack = test::random_superglue_pack(spec);
-    // The fused attention kernel (the default where the device reads texel buffers) with 4 and 8 query rows per
-    // invocation (GPUs' and CPUs' choice), and the fallback's q.k GEMM, softmax and p.v GEMM.
-    for (const auto& [texel_kernels, rows] : {std::pair{true, 4}, std::pair{true, 8}, std::pair{false, 0}}) {
-      SCOPED_TRACE(texel_kernels ? "fused attention, " + std::to_string(rows) + " rows" : "three-pass attention");
+    // The fused attention kernel (the default where the device reads texel buffers) in its register form with 4
+    // and 8 query rows per invocation and in its shared-memory form (GPUs' choice), and the fallback's q.k GEMM,
+    // softmax and p.v GEMM.
+    struct Form {
+      bool texel_kernels;
+      int rows;
+      bool shared;
+    };
+    for (const auto& [texel_kernels, rows, shared] :
+         {Form{true, 4, false}, Form{true, 8, false}, Form{true, 0, true}, Form{false, 0, false}}) {
+      SCOPED_TRACE(!texel_kernels ? "three-pass attention"
+                   : shared       ? "fused attention, shared-memory tiles"
+                                  : "fused attention, " + std::to_string(rows) + " rows");
       SuperGlueParams p = params();
       p.texel_kernels = texel_kernels;
       p.attention_rows = rows;
+      p.shared_attention = shared;
       SuperGlue net(gpu(), pack, p);
       net.set_profiling(true);
+      if (texel_kernels && reads_packed_texels()) {
+        EXPECT_EQ(net.attention_form(), shared ? "shared" : "registers");
+      }
       // Set sizes that are not multiples of 4 or 8, then multiples of 8: the fused kernel's last query group and
       // key block are partial; the fallback's softmax and p.v GEMM take their general paths, then the vec4
       // softmax and the tiled p.v.
