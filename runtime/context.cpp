@@ -251,7 +251,6 @@ void DeviceCaps::require(Precision p, std::string_view user) const {
 
 Precision DeviceCaps::preferred_precision() const {
   if (type == "cpu") return Precision::fp32;
-  if (supports(Precision::fp16)) return Precision::fp16;
   if (supports(Precision::fp16s)) return Precision::fp16s;
   return Precision::fp32;
 }

@@ -25,6 +25,17 @@ TEST(Context, ListsAtLeastOneDeviceWithSaneCaps) {
   }
 }
 
+// The default precision by device kind, on described devices (no Vulkan needed): fp32 math everywhere, 16-bit
+// storage on GPUs that have it, fp16 math only when asked.
+TEST(DeviceCaps, PreferredPrecisionByDeviceKind) {
+  DeviceCaps gpu_caps{.type = "discrete", .float16_arithmetic = true, .storage_16bit = true};
+  EXPECT_EQ(gpu_caps.preferred_precision(), Precision::fp16s);
+  gpu_caps.storage_16bit = false;
+  EXPECT_EQ(gpu_caps.preferred_precision(), Precision::fp32) << "no 16-bit storage";
+  const DeviceCaps cpu_caps{.type = "cpu", .float16_arithmetic = true, .storage_16bit = true};
+  EXPECT_EQ(cpu_caps.preferred_precision(), Precision::fp32);
+}
+
 TEST(Context, SharedContextHasAPrecisionItSupports) {
   const auto& caps = test::gpu().caps();
   EXPECT_TRUE(caps.supports(Precision::fp32));
