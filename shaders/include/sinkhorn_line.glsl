@@ -1,6 +1,7 @@
 // One line of a log-space Sinkhorn half-iteration (formulas in superglue_sinkhorn.comp): the new potential of
 // line t is marginal - logsumexp_j (Z[t][j] + other[j]). Shared by superglue_sinkhorn_tiled.comp (one dispatch
-// per half-iteration) and superglue_sinkhorn_fused.comp (all iterations in one workgroup).
+// per half-iteration) and superglue_sinkhorn_fused.comp (all iterations in one workgroup);
+// superglue_sinkhorn_lines.comp takes the marginal.
 //
 // Defines before inclusion: SINKHORN_OTHER(e), texel e (4 entries) of the other axis' potential.
 //
@@ -13,6 +14,9 @@
 #extension GL_EXT_control_flow_attributes : require
 
 const uint kSinkhornBlock = 4;  // texels per step of the running maximum
+
+// log of line t's marginal: the normalisation `norm` (-log(N + M)), plus log(others) for the dustbin line.
+float sinkhorn_log_marginal(bool dustbin, uint others, float norm) { return dustbin ? log(float(others)) + norm : norm; }
 
 // couplings: the padded lines of this axis, `texels` texels each, line t's first at `base`. `others`: real
 // points of the other set, the mass of this set's dustbin (the last line).
@@ -33,6 +37,5 @@ float sinkhorn_potential(textureBuffer couplings, uint base, uint texels, bool d
     total = total * exp(peak - new_peak) + ((sum4.x + sum4.y) + (sum4.z + sum4.w));
     peak = new_peak;
   }
-  const float marginal = dustbin ? log(float(others)) + norm : norm;
-  return marginal - (peak + log(total));
+  return sinkhorn_log_marginal(dustbin, others, norm) - (peak + log(total));
 }

@@ -16,7 +16,7 @@ struct BenchOptions {
   int winograd_tile = 0;                  // --winograd-tile: 4 or 6 (0: SuperPointParams' default)
   std::vector<std::size_t> keypoints{200, 400, 1000};  // --keypoints: SuperGlue's N = M
   std::string attention = "auto";         // --attention: SuperGlue's fused attention (auto | shared | registers)
-  std::string sinkhorn = "auto";          // --sinkhorn: SuperGlue's Sinkhorn (auto | fused | dispatches)
+  std::string sinkhorn = "auto";  // --sinkhorn: auto | fused | workgroup-per-line | invocation-per-line
 };
 
 struct NetworkBench {

@@ -32,7 +32,10 @@ int run(const rt::Context& context, const app::BenchOptions& options) {
   for (rt::Precision precision : options.precisions) {
     features::SuperGlueParams params{.precision = precision};
     if (options.attention != "auto") params.shared_attention = options.attention == "shared";
-    if (options.sinkhorn != "auto") params.fused_sinkhorn = options.sinkhorn == "fused";
+    if (options.sinkhorn != "auto") {
+      params.fused_sinkhorn = options.sinkhorn == "fused";
+      params.sinkhorn_workgroup_per_line = options.sinkhorn == "workgroup-per-line";
+    }
     features::SuperGlue net(context, pack, params);
     const int dim = net.config().descriptor_dim;
     fmt::print("\nSuperGlue ({} layers, {} Sinkhorn iterations), precision {}, attention {}\n",

@@ -85,8 +85,9 @@ vkvo::app::CommandRegistration registration{
                       "SuperGlue's fused attention: shared-memory tiles (GPUs' choice) or rows in registers (CPUs')")
            ->check(CLI::IsMember({"auto", "shared", "registers"}));
        sub.add_option("--sinkhorn", options->sinkhorn,
-                      "SuperGlue's Sinkhorn: one fused workgroup (up to 1023 keypoints) or two dispatches per iteration")
-           ->check(CLI::IsMember({"auto", "fused", "dispatches"}));
+                      "SuperGlue's Sinkhorn: one fused workgroup (up to 1023 keypoints), or two dispatches per "
+                      "iteration with a workgroup (GPUs' choice) or an invocation (CPUs') per line")
+           ->check(CLI::IsMember({"auto", "fused", "workgroup-per-line", "invocation-per-line"}));
        sub.add_option("--filter", options->filter, "kernel table: only kernels whose name contains this (e.g. gemm)");
        for (const auto& bench : vkvo::app::network_bench_registry())
          sub.add_flag_callback("--" + bench.name, [options, name = bench.name] { options->networks.push_back(name); },

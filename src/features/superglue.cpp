@@ -20,8 +20,9 @@ namespace vkvo::features {
 namespace {
 
 // Query rows per invocation of superglue_attention_tiled.comp unless the caller chose: 8 on CPU devices, where the
-// key and value fetches then serve twice the multiply-adds (measured there); GPUs keep the 4 they had until one is
-// measured, since 8 doubles what each invocation holds (query rows and accumulators, 2 x rows x head_dim floats).
+// key and value fetches then serve twice the multiply-adds (measured there); 4 on GPUs, which run that kernel only
+// when SuperGlueParams::shared_attention is false (8 doubles what each invocation holds: query rows and
+// accumulators, 2 x rows x head_dim floats).
 std::uint32_t attention_rows(const rt::Context& context, int chosen) {
   if (chosen < 0 || chosen > 16)
     throw std::invalid_argument(fmt::format("SuperGlue: attention_rows must be 0 (automatic) to 16, got {}", chosen));
@@ -103,7 +104,7 @@ struct SuperGlue::Impl {
   rt::Kernel keypoints_kernel, softmax_kernel, scores_kernel, sinkhorn_kernel, assignment_kernel, argmax_kernel,
       mutual_kernel;
   // Sinkhorn through RGBA32F texel buffers, where the device reads them (see texel_sinkhorn_fits()).
-  std::optional<rt::Kernel> couplings_pad_kernel, sinkhorn_tiled_kernel, sinkhorn_fused_kernel;
+  std::optional<rt::Kernel> couplings_pad_kernel, sinkhorn_tiled_kernel, sinkhorn_fused_kernel, sinkhorn_lines_kernel;
   // The fused attention and the score matrix through texel views of the storage precision, where the device
   // reads them.
   std::optional<rt::Kernel> attention_tiled_kernel, attention_shared_kernel, scores_tiled_kernel;
@@ -179,6 +180,11 @@ struct SuperGlue::Impl {
           ctx, rt::KernelSpec{.op = "superglue_sinkhorn_fused", .precision = precision, .bindings = 4,
                               .written_bindings = 0b1100u, .push_constant_bytes = 24, .specialization = {},
                               .texel_formats = {vk::Format::eR32G32B32A32Sfloat, vk::Format::eR32G32B32A32Sfloat}});
+      if (params.sinkhorn_workgroup_per_line.value_or(ctx.caps().type != "cpu"))
+        sinkhorn_lines_kernel.emplace(
+            ctx, rt::KernelSpec{.op = "superglue_sinkhorn_lines", .precision = precision, .bindings = 3,
+                                .written_bindings = 0b100u, .push_constant_bytes = 16, .specialization = {},
+                                .texel_formats = {vk::Format::eR32G32B32A32Sfloat, vk::Format::eR32G32B32A32Sfloat}});
     }
     prepare_weights(pack);
   }
@@ -206,7 +212,8 @@ struct SuperGlue::Impl {
   // kFusedSinkhornCells entries: there every dispatch wakes the worker threads (about 0.07 ms on 2 cores), while the
   // fused kernel runs on one of them. Measured with lavapipe on 2 Zen 5 cores (100 iterations, one profiled call
   // each, dispatches' figures less their timestamps): N = M = 100 4 vs ~19 ms, 200 16 vs ~24 ms, 250 24 vs ~24 ms,
-  // 300 35 vs ~19-26 ms, 400 62 vs ~32 ms. GPUs keep the dispatches until measured.
+  // 300 35 vs ~19-26 ms, 400 62 vs ~32 ms. GPUs keep the dispatches: on an H200 the fused kernel took 1.95 / 7.7 /
+  // 37 ms at N = M = 200 / 400 / 1000 against 1.8 / 2.9 / 6.0 ms for the 200 dispatches (fp32, profiled calls).
   static constexpr std::size_t kFusedSinkhornCells = 48 * 1024;  // N = M = 220
   bool fused_sinkhorn_runs() const {
     if (!sinkhorn_fused_kernel || !texel_sinkhorn_fits() || rows_padded() > 1024 || cols_padded() > 1024) return false;
@@ -412,11 +419,14 @@ struct SuperGlue::Impl {
     }
     struct HalfPush { std::uint32_t lines, line_length, texels; float norm; };
     const HalfPush by_row{rows, cols, cols_p / 4, norm}, by_column{cols, rows, rows_p / 4, norm};
+    // A workgroup per line (sinkhorn_lines_kernel), or 64 lines per workgroup.
+    const rt::Kernel& half = sinkhorn_lines_kernel ? *sinkhorn_lines_kernel : *sinkhorn_tiled_kernel;
+    const std::uint32_t row_groups = sinkhorn_lines_kernel ? rows : rt::groups_for(rows, 64);
+    const std::uint32_t column_groups = sinkhorn_lines_kernel ? cols : rt::groups_for(cols, 64);
     for (int it = 0; it < iterations; ++it) {
-      seq->dispatch(*sinkhorn_tiled_kernel, {rt::Binding(*z_rows), rt::Binding(*v), rt::Binding(*u)}, by_row,
-                    {rt::groups_for(rows, 64)}, "sinkhorn");
-      seq->dispatch(*sinkhorn_tiled_kernel, {rt::Binding(*z_cols), rt::Binding(*u), rt::Binding(*v)}, by_column,
-                    {rt::groups_for(cols, 64)}, "sinkhorn");
+      seq->dispatch(half, {rt::Binding(*z_rows), rt::Binding(*v), rt::Binding(*u)}, by_row, {row_groups}, "sinkhorn");
+      seq->dispatch(half, {rt::Binding(*z_cols), rt::Binding(*u), rt::Binding(*v)}, by_column, {column_groups},
+                    "sinkhorn");
     }
   }
 

@@ -44,6 +44,10 @@ struct SuperGlueParams {
   // the texel-buffer Sinkhorn runs and both sets have at most 1023 keypoints. nullopt: the device's choice (CPU
   // devices, for small couplings matrices: see superglue.cpp); true: whenever it can; false: never.
   std::optional<bool> fused_sinkhorn;
+  // Where Sinkhorn dispatches per half-iteration through texel buffers: a workgroup per line
+  // (superglue_sinkhorn_lines.comp) rather than an invocation per line (superglue_sinkhorn_tiled.comp).
+  // nullopt: the device's choice (GPUs; CPUs keep an invocation per line); true / false: forced.
+  std::optional<bool> sinkhorn_workgroup_per_line;
 };
 
 // YAML section `point_matcher`: match_threshold, sinkhorn_iterations, precision (fp32 | fp16s | fp16 | auto).

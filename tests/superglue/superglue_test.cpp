@@ -107,14 +107,21 @@ TEST_P(SuperGlueRandom, SinkhornAndExtractionWithoutGnn) {
   spec.sinkhorn_iterations = 20;
   const auto pack = test::random_superglue_pack(spec);
   // Every Sinkhorn kernel: through texel buffers (the default where the device reads them) with a dispatch per
-  // half-iteration and as one fused workgroup, and the storage-buffer fallback; 50 + 1 and 41 + 1 lines are not
-  // multiples of the texel width.
-  for (const auto& [texel_kernels, fused] : {std::pair{true, false}, std::pair{true, true}, std::pair{false, false}}) {
-    SCOPED_TRACE(texel_kernels ? (fused ? "fused texel-buffer Sinkhorn" : "texel-buffer Sinkhorn")
-                               : "storage-buffer Sinkhorn");
+  // half-iteration (an invocation or a workgroup per line) and as one fused workgroup, and the storage-buffer
+  // fallback; 50 + 1 and 41 + 1 lines are not multiples of the texel width.
+  struct Form {
+    bool texel_kernels, fused, workgroup_per_line;
+    const char* name;
+  };
+  for (const auto& [texel_kernels, fused, workgroup_per_line, name] :
+       {Form{true, false, false, "texel-buffer Sinkhorn, an invocation per line"},
+        Form{true, false, true, "texel-buffer Sinkhorn, a workgroup per line"},
+        Form{true, true, false, "fused texel-buffer Sinkhorn"}, Form{false, false, false, "storage-buffer Sinkhorn"}}) {
+    SCOPED_TRACE(name);
     SuperGlueParams p = params();
     p.texel_kernels = texel_kernels;
     p.fused_sinkhorn = fused;
+    p.sinkhorn_workgroup_per_line = workgroup_per_line;
     SuperGlue net(gpu(), pack, p);
     net.set_profiling(true);
     EXPECT_EQ(net.config().sinkhorn_iterations, 20);
