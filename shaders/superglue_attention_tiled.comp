@@ -16,7 +16,8 @@
 // alternating pairs; fp32, 4 values per texel, about as fast as that).
 // The key and value fetches serve all kRows rows: 8 rows instead of 4 halve them per multiply-add, and made the
 // attention at N = M = 1000 11 % faster on lavapipe (1.70-2.05 vs 1.90-2.08 s, seven alternating pairs; no
-// change at N = 200 and 400); 16 rows measured no better than 8. GPUs keep 4 rows (see the host) until measured.
+// change at N = 200 and 400); 16 rows measured no better than 8. GPUs run superglue_attention_shared.comp instead
+// (this kernel with 4 rows only when asked): on an H200 this one left most of the chip idle.
 #include "packed_texel.glsl"
 #extension GL_EXT_control_flow_attributes : require
 
