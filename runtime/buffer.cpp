@@ -47,7 +47,10 @@ Buffer::Buffer(const Context& context, std::size_t bytes, BufferKind kind, std::
   }
   buffer_.bindMemory(*memory_, 0);
   const auto properties = context.physical_device().getMemoryProperties().memoryTypes[*type].propertyFlags;
-  if (properties & M::eHostVisible) mapped_ = memory_.mapMemory(0, VK_WHOLE_SIZE);
+  // Device buffers are mapped only on unified memory: ContextOptions::use_unified_memory = false keeps lavapipe's
+  // host-visible memory unmapped, so that the staging path runs there too.
+  const bool map = kind == BufferKind::staging || context.caps().unified_memory;
+  if (map && (properties & M::eHostVisible)) mapped_ = memory_.mapMemory(0, VK_WHOLE_SIZE);
 }
 
 Buffer::~Buffer() = default;
@@ -61,7 +64,8 @@ void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
     std::memcpy(static_cast<std::byte*>(mapped_) + offset, data, bytes);
     return;
   }
-  Buffer staging(*context_, bytes, BufferKind::staging, name_ + ".staging");
+  std::unique_ptr<Buffer> temporary;
+  Buffer& staging = staging_for(bytes, temporary);
   staging.upload(data, bytes);
   context_->run_once([&](const vk::raii::CommandBuffer& cmd) {
     cmd.copyBuffer(staging.handle(), handle(), vk::BufferCopy{.srcOffset = 0, .dstOffset = offset, .size = bytes});
@@ -75,11 +79,21 @@ void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
     std::memcpy(data, static_cast<const std::byte*>(mapped_) + offset, bytes);
     return;
   }
-  Buffer staging(*context_, bytes, BufferKind::staging, name_ + ".staging");
+  std::unique_ptr<Buffer> temporary;
+  const Buffer& staging = staging_for(bytes, temporary);
   context_->run_once([&](const vk::raii::CommandBuffer& cmd) {
     cmd.copyBuffer(handle(), staging.handle(), vk::BufferCopy{.srcOffset = offset, .dstOffset = 0, .size = bytes});
   });
   staging.download(data, bytes);
+}
+
+Buffer& Buffer::staging_for(std::size_t bytes, std::unique_ptr<Buffer>& temporary) const {
+  ++transfers_;
+  if (!staging_ && transfers_ >= 2)
+    staging_ = std::make_unique<Buffer>(*context_, bytes_, BufferKind::staging, name_ + ".staging");
+  if (staging_) return *staging_;
+  temporary = std::make_unique<Buffer>(*context_, bytes, BufferKind::staging, name_ + ".staging");
+  return *temporary;
 }
 
 void Buffer::fill_zero() {

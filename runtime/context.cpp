@@ -285,6 +285,7 @@ Context::Context(const ContextOptions& options)
   caps_ = devices[chosen];
   if (!options.use_16bit) caps_.storage_16bit = caps_.float16_arithmetic = false;
   if (!options.use_int64) caps_.int64 = false;
+  if (!options.use_unified_memory) caps_.unified_memory = false;
   physical_device_ = std::move(vk::raii::PhysicalDevices(instance_)[chosen]);
   if (caps_.api_version < VK_API_VERSION_1_1)
     throw VulkanError(fmt::format("device '{}' supports only Vulkan {}.{}; vkvo needs 1.1", caps_.name,

@@ -88,6 +88,9 @@ struct ContextOptions {
   // that use 64-bit types for wider stores (WinogradConv3x3's wide input transforms) are not created and their
   // 32-bit forms run instead. To test those forms on any device.
   bool use_int64 = true;
+  // false: buffers are used as on a discrete GPU even where the device's memory is unified (lavapipe): shaders'
+  // buffers are not mapped and every host transfer goes through a staging buffer. To test that path on any device.
+  bool use_unified_memory = true;
 };
 
 // Lists every Vulkan device (throws VulkanError naming the cause when there is no loader, driver or device).

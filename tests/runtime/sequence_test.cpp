@@ -22,6 +22,47 @@ TEST(Buffer, RoundTripsBytesAtOffsets) {
   EXPECT_EQ(back, data);
 }
 
+// The discrete-GPU path on any device: shaders' buffers unmapped, every transfer through staging, the staging
+// buffer kept from the second transfer on, and a sequence's results the same as with mapped buffers.
+TEST(Buffer, DiscreteMemoryTransfersThroughAKeptStagingBuffer) {
+  const Context discrete({.pipeline_cache = false, .use_unified_memory = false});
+  EXPECT_FALSE(discrete.caps().unified_memory);
+  Buffer buffer(discrete, 1000, BufferKind::device, "discrete");
+  EXPECT_FALSE(buffer.host_visible());
+  std::vector<std::uint8_t> data(300);
+  for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(i * 7 + 1);
+  buffer.upload(data.data(), data.size(), 500);
+  EXPECT_FALSE(buffer.keeps_staging()) << "a single transfer (a weight upload) keeps nothing";
+  std::vector<std::uint8_t> back(300);
+  buffer.download(back.data(), back.size(), 500);
+  EXPECT_EQ(back, data);
+  EXPECT_TRUE(buffer.keeps_staging());
+  // The kept staging buffer serves transfers of any range; the bytes outside it are untouched.
+  const std::vector<std::uint8_t> head{9, 8, 7, 6};
+  buffer.upload(std::span<const std::uint8_t>(head));
+  EXPECT_EQ(buffer.download<std::uint8_t>(4), head);
+  EXPECT_EQ(buffer.download<std::uint8_t>(300, 500), data);
+  buffer.fill_zero();
+  EXPECT_EQ(buffer.download<std::uint8_t>(1000), std::vector<std::uint8_t>(1000, 0));
+
+  // A GEMM through the staging path gives what it gives with mapped buffers.
+  const std::uint32_t n = 17;
+  const auto a = test::random_values(n * n, 1), b = test::random_values(n * n, 2);
+  auto product = [&](const Context& ctx) {
+    Buffer da(ctx, a.size() * 4), db(ctx, b.size() * 4), dc(ctx, a.size() * 4);
+    da.upload(std::span<const float>(a));
+    db.upload(std::span<const float>(b));
+    Gemm gemm(ctx, Precision::fp32);
+    Sequence seq(ctx);
+    seq.begin();
+    gemm.record(seq, da, db, nullptr, dc, {.m = n, .n = n, .k = n});
+    seq.end();
+    seq.submit();
+    return dc.download<float>(a.size());
+  };
+  EXPECT_EQ(product(discrete), product(gpu()));
+}
+
 TEST(Buffer, OverrunIsAnErrorNamingTheBuffer) {
   Buffer buffer(gpu(), 64, BufferKind::device, "small_buffer");
   std::vector<std::uint8_t> data(65);

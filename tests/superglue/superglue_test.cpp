@@ -259,6 +259,23 @@ TEST_P(SuperGlueRandom, EdgeCases) {
 INSTANTIATE_TEST_SUITE_P(AllPrecisions, SuperGlueRandom, ::testing::ValuesIn(rt::kAllPrecisions),
                          [](const auto& info) { return std::string(rt::to_string(info.param)); });
 
+// On a context used as a discrete GPU (keypoints, scores and descriptors in, matches out through staging buffers,
+// kept from the second call on) the network gives what it gives with mapped buffers, call after call.
+TEST(SuperGlueDiscreteMemory, SameMatchesAsWithMappedBuffers) {
+  const rt::Context discrete({.use_unified_memory = false});
+  const auto pack = test::random_superglue_pack({});
+  SuperGlue mapped(gpu(), pack), staged(discrete, pack);
+  for (std::uint32_t seed : {7u, 8u, 9u}) {
+    const auto [a, b] = make_pair(37, 23, 32, seed);
+    Eigen::MatrixXf want_la, got_la;
+    const PointMatches want = mapped.match(a, b, &want_la), got = staged.match(a, b, &got_la);
+    EXPECT_GT(want.count(), 0u);
+    EXPECT_EQ(got.matches0, want.matches0) << "pair " << seed;
+    EXPECT_EQ(got.scores0, want.scores0) << "pair " << seed;
+    EXPECT_EQ(got_la, want_la) << "pair " << seed;
+  }
+}
+
 TEST(SuperGlueParams, LoadsYamlSection) {
   const auto p = load_superglue_params(YAML::Load("{match_threshold: 0.3, sinkhorn_iterations: 50, precision: fp32}"));
   EXPECT_FLOAT_EQ(p.match_threshold, 0.3f);

@@ -266,6 +266,22 @@ TEST(SuperPointErrors, RejectsWrongImages) {
   EXPECT_THROW(sp.detect(cv::Mat(40, 40, CV_8UC3, cv::Scalar(0))), std::invalid_argument);
 }
 
+// On a context used as a discrete GPU (the image in, keypoints, scores and descriptors out through staging
+// buffers, kept from the second call on) detect gives what it gives with mapped buffers, call after call.
+TEST(SuperPointDiscreteMemory, SameFeaturesAsWithMappedBuffers) {
+  const rt::Context discrete({.use_unified_memory = false});
+  const auto pack = random_pack(3);
+  SuperPoint mapped(gpu(), pack), staged(discrete, pack);
+  for (std::uint32_t seed : {4u, 5u, 6u}) {
+    const cv::Mat image = random_image(101, 67, seed);
+    const PointFeatures want = mapped.detect(image), got = staged.detect(image);
+    ASSERT_GT(want.size(), 5u);
+    EXPECT_EQ(got.keypoints, want.keypoints) << "image " << seed;
+    EXPECT_EQ(got.scores, want.scores) << "image " << seed;
+    EXPECT_EQ(got.descriptors, want.descriptors) << "image " << seed;
+  }
+}
+
 // A device without 16-bit features (here lavapipe created without them): `auto` runs fp32, an explicit fp16 or
 // fp16s is refused before any pipeline is built, with the device, the missing feature and the way out named.
 TEST(SuperPointErrors, DeviceWithout16BitFeatures) {
