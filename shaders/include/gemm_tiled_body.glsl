@@ -20,8 +20,8 @@
 // tiles fetch A less per multiply-add: 4 x 8 -> 8 x 8 measured no faster, 4 x 8 -> 8 x 16 made SuperGlue's
 // GEMMs at N = 1000 about 20 % faster (mlp0 + qkv + mlp1 2.2 -> 1.8 s, alternating runs); 4 x 16, 2 x 16,
 // 12 x 16, 16 x 16, 8 x 24 and 8 x 32 measured no better than 8 x 16 (Mesa 22.3, 2 Zen 3 cores). GPUs keep the
-// 4 x 8 tile: 128 accumulators plus 24 operand texels per invocation would crowd their register files, and no
-// GPU measurement says otherwise yet.
+// 4 x 8 tile: 128 accumulators plus 24 operand texels per invocation would crowd their register files (on an H200
+// the 4 x 8 tile ran gemm 1000x512x512 B^T in 0.079 ms, 6.6 TFLOP/s fp32; the 8 x 16 one was not timed there).
 //
 // Earlier measurements at 4 x 8, 1000x512x512 B^T fp32: 32 ms when op(B) was fetched once per subgroup and
 // handed out with subgroupBroadcast, 20 ms with these direct fetches (see below) and the epilogue's loops
