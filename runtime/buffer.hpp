@@ -5,9 +5,9 @@
 // outputs then cost a copy and a submission, not an allocation each (on an H200 the allocations were most of the
 // milliseconds between SuperPoint's 2.7 ms of GPU time and its 7.5 ms call); a weight upload, done once, frees its
 // staging at once.
-#include <memory>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
