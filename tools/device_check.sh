@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The GPU checks, run on a machine that has the kit of tools/device_kit.sh (.devkit/kit.tar.xz) but not Debian's
-# libraries: the devices vkvo sees, `vkvo bench` of SuperPoint in every precision the GPU has, and
-# `vkvo run` on a rendered 752x480 sequence (issue 7's frames/s; NN matcher, since only synthetic SuperGlue
-# weights exist here). Each step's log goes to $OUT (default out/device; six files: gpu, devices, bench_superpoint,
-# synth and run logs and the run's summary.json), and a failing step does not stop the others.
+# libraries: the devices vkvo sees, the data-free GPU test suites the kit carries (runtime, SuperPoint, SuperGlue:
+# every kernel form against its C++ reference, in every precision the GPU has), `vkvo bench` of SuperPoint in every
+# precision, and `vkvo run` on a rendered 752x480 sequence (issue 7's frames/s; NN matcher, since only synthetic
+# SuperGlue weights exist here). Each step's log goes to $OUT (default out/device; seven files: gpu, devices,
+# tests, bench_superpoint, synth and run logs and the run's summary.json), and a failing step does not stop the
+# others.
 #
 #   [OUT=DIR] [REPEAT=N] tools/device_check.sh [FRAMES]     (defaults: out/device, 20 timed calls, 200 frames)
 set -uo pipefail
@@ -37,6 +39,16 @@ step() {  # name, command...
 
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv > "$OUT/gpu.txt" 2>&1 && cat "$OUT/gpu.txt"
 step devices "$VKVO" devices
+run_suites() {  # every test suite in the kit, one after the other; fails if any fails
+  local rc=0
+  for suite in "$KIT"/bin/vkvo_test_*; do
+    [ -x "$suite" ] || continue
+    echo "== $(basename "$suite")"
+    "$suite" --gtest_brief=1 || rc=1
+  done
+  return $rc
+}
+step tests run_suites
 step bench_superpoint "$VKVO" bench --superpoint --model "$KIT/models/superpoint_v1.vkvopack" --repeat "${REPEAT:-20}"
 step synth "$VKVO" synth --out "$WORK/sequence" --preset default --frames "$FRAMES"
 step run "$VKVO" run --config config/euroc.yaml --dataset "$WORK/sequence" --model "$KIT/models/superpoint_v1.vkvopack" \

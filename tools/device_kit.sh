@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Packs what a run on another Linux x86-64 machine without Debian's libraries needs (a GPU machine of a CUDA image,
-# say) into .devkit/ (git-ignored): the stripped `vkvo`, the shared libraries it loads but glibc's and the C++
-# runtime's, and the SuperPoint pack; tools/device_check.sh runs from there.
+# say) into .devkit/ (git-ignored): the stripped `vkvo`, the data-free GPU test suites (runtime, SuperPoint and
+# SuperGlue against their C++ references, where the build has them), the shared libraries these load but glibc's
+# and the C++ runtime's, and the SuperPoint pack; tools/device_check.sh runs from there.
 #
 #   tools/device_kit.sh [BUILD_DIR]      (default build/; needs the shared data for the packs)
 #
@@ -39,14 +40,26 @@ done
 cp -L "$LIBDIR/blas/libblas.so.3" "$LIBDIR/lapack/liblapack.so.3" "$stage/lib/"
 
 # The rest of the closure, resolved with the stubs and reference BLAS in front; vkvo loads the Vulkan loader itself.
-cp "$VKVO" "$stage/bin/vkvo" && strip "$stage/bin/vkvo"
+cp "$VKVO" "$stage/bin/vkvo"
+for suite in runtime superpoint superglue; do
+  [ -x "$BUILD_DIR/tests/vkvo_test_$suite" ] && cp "$BUILD_DIR/tests/vkvo_test_$suite" "$stage/bin/"
+done
+strip "$stage"/bin/*
 cp -L "$LIBDIR/libvulkan.so.1" "$stage/lib/"
-LD_LIBRARY_PATH="$PWD/$stage/lib" ldd "$stage/bin/vkvo" | awk '$3 ~ /^\// {print $1, $3}' |
+# The GLVND libraries that NVIDIA's Vulkan driver (libGLX_nvidia) loads and a CUDA image may lack: on an H200
+# machine of one (2026-12-04) vkCreateInstance failed with ErrorIncompatibleDriver without them.
+glvnd="libGLdispatch.so.0 libGLX.so.0 libEGL.so.1 libOpenGL.so.0 libGL.so.1 libGLESv2.so.2"
+for lib in $glvnd; do
+  cp -L "$LIBDIR/$lib" "$stage/lib/" ||
+    { echo "device_kit: $LIBDIR/$lib missing (apt-get install libglvnd0 libglx0 libegl1 libopengl0 libgl1 libgles2)" >&2; exit 1; }
+done
+LD_LIBRARY_PATH="$PWD/$stage/lib" ldd "$stage"/bin/* $(for lib in $glvnd; do echo "$stage/lib/$lib"; done) |
+  awk '$3 ~ /^\// {print $1, $3}' | sort -u |
   grep -v -E '^(libc|libm|libpthread|libdl|librt|libstdc\+\+|libgcc_s)\.so' |
   while read -r name path; do
     case "$path" in "$PWD/$stage"/*) ;; *) cp -L "$path" "$stage/lib/$name" ;; esac
   done
-if LD_LIBRARY_PATH="$PWD/$stage/lib" ldd "$stage/bin/vkvo" | grep -q "not found"; then
+if LD_LIBRARY_PATH="$PWD/$stage/lib" ldd "$stage"/bin/* | grep -q "not found"; then
   echo "device_kit: unresolved libraries" >&2; exit 1
 fi
 
