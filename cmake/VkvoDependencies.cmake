@@ -17,6 +17,13 @@ endif()
 if(VKVO_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
+if(VKVO_BUILD_PYTHON)
+  # Debian's python3, the one its pybind11 and numpy packages serve, never another python3 first on PATH.
+  set(Python_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "The Python the vkvo module is built and tested for")
+  set(PYBIND11_FINDPYTHON ON)
+  find_package(Python 3 REQUIRED COMPONENTS Interpreter Development.Module)
+  find_package(pybind11 CONFIG REQUIRED)
+endif()
 
 find_package(ONNX REQUIRED)   # libonnx-dev: generated protobuf classes, target onnx_proto
 

@@ -13,8 +13,9 @@ install(TARGETS vkvo ${modules} vkvo_shaders EXPORT vkvoTargets
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS vkvo_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY runtime/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/vkvo/runtime FILES_MATCHING PATTERN "*.hpp")
+install(DIRECTORY shaders/include/push DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/vkvo/shaders/include)  # push_constants.hpp
 install(DIRECTORY src/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/vkvo FILES_MATCHING PATTERN "*.hpp"
-        PATTERN "app" EXCLUDE)
+        PATTERN "app" EXCLUDE PATTERN "python" EXCLUDE)
 install(DIRECTORY tools/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/vkvo/tools FILES_MATCHING PATTERN "*.hpp")
 install(EXPORT vkvoTargets NAMESPACE vkvo:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/vkvo)
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/vkvoConfig.cmake.in

@@ -2,9 +2,8 @@
 // A storage buffer. Device-local with staging copies on discrete GPUs; host-visible and persistently mapped on
 // unified-memory devices (lavapipe, Jetson, phones), where uploads and downloads are plain memcpy.
 // A device buffer that the host transfers to or from a second time keeps its staging buffer: per-call inputs and
-// outputs then cost a copy and a submission, not an allocation each (on an H200 the allocations were most of the
-// milliseconds between SuperPoint's 2.7 ms of GPU time and its 7.5 ms call); a weight upload, done once, frees its
-// staging at once.
+// outputs then cost a copy and a submission, not an allocation each (on a GPU the allocations took more than the
+// network: docs/performance-history.md, "Device defaults"); a weight upload, done once, frees its staging at once.
 #include <cstddef>
 #include <cstdint>
 #include <memory>

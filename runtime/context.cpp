@@ -249,12 +249,6 @@ void DeviceCaps::require(Precision p, std::string_view user) const {
                                        user, name, to_string(p), lacks, usable));
 }
 
-Precision DeviceCaps::preferred_precision() const {
-  if (type == "cpu") return Precision::fp32;
-  if (supports(Precision::fp16s)) return Precision::fp16s;
-  return Precision::fp32;
-}
-
 std::uint64_t validation_message_count() { return g_validation_messages.load(); }
 
 std::vector<DeviceCaps> list_devices() {
@@ -286,6 +280,7 @@ Context::Context(const ContextOptions& options)
   if (!options.use_16bit) caps_.storage_16bit = caps_.float16_arithmetic = false;
   if (!options.use_int64) caps_.int64 = false;
   if (!options.use_unified_memory) caps_.unified_memory = false;
+  profile_ = make_device_profile(caps_);
   physical_device_ = std::move(vk::raii::PhysicalDevices(instance_)[chosen]);
   if (caps_.api_version < VK_API_VERSION_1_1)
     throw VulkanError(fmt::format("device '{}' supports only Vulkan {}.{}; vkvo needs 1.1", caps_.name,

@@ -13,6 +13,7 @@
 
 #include <vulkan/vulkan_raii.hpp>
 
+#include "runtime/device_profile.hpp"
 #include "runtime/precision.hpp"
 
 namespace vkvo::rt {
@@ -59,16 +60,6 @@ struct DeviceCaps {
   // Throws std::runtime_error unless the device supports `p`, naming `user` (e.g. "SuperPoint"), the device, the
   // feature it lacks and the precisions it has.
   void require(Precision p, std::string_view user) const;
-  // GPUs: fp16 storage with fp32 math where the device has 16-bit storage, else fp32. fp16 math is never the
-  // default: every kernel accumulates in fp32 and most read through texel buffers, so on an H200 it bought
-  // nothing measurable (SuperPoint 752x480 7.4 ms fp16, 7.9 fp16s, 7.8 fp32; SuperGlue N = M = 1000 31.8 / 30.2 /
-  // 28.9 ms; `vkvo run` 49 vs 53 frames/s for fp32), while it takes SuperPoint's dense scores past the golden
-  // tolerance. CPU devices get fp32: lavapipe emulates fp16 math (~7x slower), and halving the storage saves no
-  // bandwidth that matters there while converting the halves costs (SuperPoint 752x480 on lavapipe: fp32 2.9 s,
-  // fp16s 3.1-3.3 s; SuperGlue the same in both).
-  Precision preferred_precision() const;
-  // Compute shaders can broadcast a value from one of the first 8 lanes of a subgroup to the others.
-  bool subgroup_broadcast8() const { return subgroup_compute && subgroup_ballot && subgroup_size >= 8; }
 };
 
 struct ContextOptions {
@@ -107,6 +98,8 @@ class Context {
   Context& operator=(const Context&) = delete;
 
   const DeviceCaps& caps() const { return caps_; }
+  // Every per-device choice, made once from caps().
+  const DeviceProfile& profile() const { return profile_; }
   bool validation_enabled() const { return validation_enabled_; }
 
   const vk::raii::Device& device() const { return device_; }
@@ -141,6 +134,7 @@ class Context {
   vk::raii::PipelineCache pipeline_cache_{nullptr};
   std::uint32_t queue_family_ = 0;
   DeviceCaps caps_;
+  DeviceProfile profile_;
   bool validation_enabled_ = false;
   std::filesystem::path cache_file_;
   mutable std::mutex queue_mutex_;   // guards queue_ and transfer_pool_

@@ -1,7 +1,7 @@
 #pragma once
 // The machine the process runs on. On a CPU device (lavapipe) it is the device: the driver names only its LLVM
-// and vector width, yet the same build ran SuperPoint 2.2x apart on two 2-core cloud VMs (an AMD Zen 5 and an
-// Intel Emerald Rapids), so benchmark figures name the host next to the device.
+// and vector width, yet the same build runs at very different speeds on different 2-core cloud VMs
+// (docs/performance-history.md), so benchmark figures name the host next to the device.
 #include <istream>
 #include <string>
 

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "runtime/context.hpp"
+#include "runtime/push_constants.hpp"
 
 namespace vkvo::rt {
 namespace {
@@ -16,26 +17,13 @@ namespace {
 // two warps on NVIDIA, one wave on AMD.
 constexpr std::uint32_t kGroupX = 16, kGroupY = 4;
 
-struct ConvPush {
-  std::uint32_t in_channels, out_channels, height, width, out_pad, relu;
-};
-struct Conv1x1Push {
-  std::uint32_t in_channels, out_channels, height, width, in_pad, out_pad, relu;
-};
-struct PoolPush {
-  std::uint32_t channels, in_height, in_width, in_pad, out_pad;
-};
-struct GemmPush {
-  std::uint32_t m, n, k, lda, ldb, ldc, a_offset, b_offset, c_offset, a_batch, b_batch, c_batch, flags;
-  float alpha;
-};
+using shader::Conv1x1Push;
+using shader::Conv3x3Push;
+using shader::GemmPush;
+using shader::MaxPoolPush;
 // Output rows per invocation of shaders/gemm.comp (its ROWS).
 constexpr std::uint32_t kGemmRows = 3;
-// GemmPush::flags, as in shaders/gemm.comp and gemm_tiled.comp (gemm_tiled reads only the transpose and ReLU
-// flags; vec4 K/N: gemm.comp only).
-constexpr std::uint32_t kGemmTransposedB = 1, kGemmBias = 2, kGemmRelu = 4, kGemmAccumulate = 8, kGemmVec4K = 16,
-                        kGemmVec4N = 32, kGemmRowBias = 64;
-// gemm_tiled_body.glsl's kBiasPer specialization constant.
+// gemm_tiled.comp's kBiasPer specialization constant.
 constexpr std::uint32_t kGemmNoBias = 0, kGemmBiasPerColumn = 1, kGemmBiasPerRow = 2;
 
 // Output channels and pixels per invocation of conv3x3_tiled.comp (and pixels of conv1x1_tiled.comp).
@@ -67,15 +55,12 @@ KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool tiled,
   if (kernel_size != 1 && kernel_size != 3) throw std::invalid_argument("Conv2d: kernel size must be 1 or 3");
   std::vector<vk::Format> texel_formats;
   if (tiled) texel_formats = {vec4_texel_format(precision), conv_weight_texel_format(precision)};
-  const char* op = kernel_size == 1 ? "conv1x1"
-                   : !tiled         ? "conv3x3"
-                   : max_pool       ? "conv3x3_maxpool_tiled"
-                                    : "conv3x3_tiled";
-  return {.op = op, .precision = precision,
-          .bindings = 4,
-          .written_bindings = 1u << 3,
-          .push_constant_bytes = kernel_size == 3 ? std::uint32_t(sizeof(ConvPush)) : std::uint32_t(sizeof(Conv1x1Push)),
-          .specialization = {kGroupX, kGroupY}, .texel_formats = std::move(texel_formats)};
+  const Op op = kernel_size == 1 ? Op::conv1x1
+                : !tiled         ? Op::conv3x3
+                : max_pool       ? Op::conv3x3_maxpool_tiled
+                                 : Op::conv3x3_tiled;
+  return {.op = op, .precision = precision, .specialization = {kGroupX, kGroupY},
+          .texel_formats = std::move(texel_formats)};
 }
 
 // The tiled 3x3 kernels read the input 4 values per texel through one view of at most the device's texel count.
@@ -87,7 +72,7 @@ void check_tiled_conv_input(const ActivationShape& in, std::size_t max_texel_ele
 }
 
 // Grid of the tiled 3x3 kernels: (8-channel groups, 4-pixel column tiles, `rows`-row tiles) over workgroups of
-// kGroupX x kGroupY invocations; the channel group varies fastest (conv3x3_tiled_body.glsl).
+// kGroupX x kGroupY invocations; the channel group varies fastest (conv3x3_tiled.comp).
 Groups tiled_conv_groups(const ActivationShape& in, std::uint32_t out_channels, std::uint32_t rows) {
   return {groups_for(out_channels, kTiledConvChannels), groups_for(groups_for(in.width, kTiledConvPixels), kGroupX),
           groups_for(groups_for(in.height, rows), kGroupY)};
@@ -124,9 +109,7 @@ Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel
       max_texel_elements_(context.caps().max_texel_buffer_elements),
       kernel_(context, conv_spec(precision, kernel_size, tiled_)) {
   if (kernel_size == 1 && choice != Conv3x3Kernel::direct && tiled_kernels_available(context, precision))
-    tiled_1x1_.emplace(context, KernelSpec{.op = "conv1x1_tiled", .precision = precision, .bindings = 4,
-                                           .written_bindings = 1u << 3,
-                                           .push_constant_bytes = sizeof(Conv1x1Push),
+    tiled_1x1_.emplace(context, KernelSpec{.op = Op::conv1x1_tiled, .precision = precision,
                                            .specialization = {kGroupX, kGroupY},
                                            .texel_formats = {activation_texel_format(precision),
                                                              conv_weight_texel_format(precision)}});
@@ -145,7 +128,7 @@ void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& i
     throw std::invalid_argument("Conv2d: input and output must have the same spatial size");
   const std::uint32_t blocks = (out.channels + 3) / 4;
   if (kernel_size_ == 3) {
-    const ConvPush push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
+    const Conv3x3Push push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
     if (tiled_) check_tiled_conv_input(in, max_texel_elements_);
     else if (in.pad != 1) throw std::invalid_argument("Conv2d 3x3: the input needs a 1-pixel zero border");
     const Groups groups = tiled_ ? tiled_conv_groups(in, out.channels, kTiledConvRows)
@@ -179,26 +162,24 @@ void Conv3x3MaxPool::record(Sequence& seq, const Buffer& input, const Activation
     throw std::invalid_argument(fmt::format("Conv3x3MaxPool: a {}x{} input pools to {}x{}, not {}x{}", in.width,
                                             in.height, in.width / 2, in.height / 2, out.width, out.height));
   check_tiled_conv_input(in, max_texel_elements_);
-  const ConvPush push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
+  const Conv3x3Push push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
   seq.dispatch(kernel_, {input, weights, bias, output}, push, tiled_conv_groups(in, out.channels, kPooledConvRows),
                label.empty() ? fmt::format("conv3x3+maxpool {}->{}", in.channels, out.channels) : std::move(label));
 }
 
 MaxPool2x2::MaxPool2x2(const Context& context, Precision precision)
-    : kernel_(context, {.op = "maxpool2x2", .precision = precision, .bindings = 2, .written_bindings = 1u << 1,
-                        .push_constant_bytes = sizeof(PoolPush), .specialization = {}}) {}
+    : kernel_(context, {.op = Op::maxpool2x2, .precision = precision}) {}
 
 void MaxPool2x2::record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Buffer& output,
                         std::uint32_t out_pad, std::string label) const {
-  const PoolPush push{in.channels, in.height, in.width, in.pad, out_pad};
+  const MaxPoolPush push{in.channels, in.height, in.width, in.pad, out_pad};
   const std::size_t plane = std::size_t(in.height / 2) * (in.width / 2);
   seq.dispatch(kernel_, {input, output}, push, {groups_for(plane, 64), in.channels},
                label.empty() ? "maxpool2x2" : std::move(label));
 }
 
 Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
-    : kernel_(context, {.op = "gemm", .precision = precision, .bindings = 4, .written_bindings = 1u << 3,
-                        .push_constant_bytes = sizeof(GemmPush), .specialization = {kGroupX, kGroupY}}),
+    : kernel_(context, {.op = Op::gemm, .precision = precision, .specialization = {kGroupX, kGroupY}}),
       max_texel_elements_(context.caps().max_texel_buffer_elements),
       elements_per_texel_(values_per_packed_texel(precision)),
       dummy_bias_(context, 16, BufferKind::device, "gemm.no_bias") {
@@ -207,13 +188,12 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
   if ((choice == GemmKernel::tiled || choice == GemmKernel::tiled_wide) && !available)
     throw std::invalid_argument("Gemm: the tiled kernel needs uniform texel-buffer reads of the operand format");
   if (choice != GemmKernel::direct && available) {
-    // The wide tile where the device is a CPU (gemm_tiled_body.glsl says why), unless the caller chose.
+    // The device profile's tile (gemm_tiled.comp says why CPUs get the wide one), unless the caller chose.
     const bool wide =
-        choice == GemmKernel::tiled_wide || (choice == GemmKernel::automatic && context.caps().type == "cpu");
+        choice == GemmKernel::tiled_wide || (choice == GemmKernel::automatic && context.profile().wide_gemm_tile);
     tile_ = wide ? TiledGemmTile{8, 16} : TiledGemmTile{4, 8};
     tiled_ = std::make_unique<TiledVariants>(
-        context, KernelSpec{.op = wide ? "gemm_tiled_wide" : "gemm_tiled", .precision = precision, .bindings = 4,
-                            .written_bindings = 1u << 3, .push_constant_bytes = sizeof(GemmPush),
+        context, KernelSpec{.op = wide ? Op::gemm_tiled_wide : Op::gemm_tiled, .precision = precision,
                             .texel_formats = {texel, texel}});
   }
 }
@@ -231,8 +211,8 @@ struct Gemm::TiledVariants {
 
 // The epilogue is specialised rather than read from push-constant flags: lavapipe runs both sides of a branch
 // under lane masks, so a flag left off still ran the bias loads and the accumulating load of C, each a scalar
-// loop over the lanes. SuperPoint's Winograd GEMMs (K = 64) use neither: conv1b's GEMM stage was faster in
-// each of three alternating pairs (157 -> 141, 222 -> 175, 208 -> 188 ms at 640x480).
+// loop over the lanes. SuperPoint's Winograd GEMMs (K = 64) use neither (docs/performance-history.md, "Tiled
+// GEMM").
 const Kernel& Gemm::tiled_kernel(bool vec4_store, bool accumulate, std::uint32_t bias_per) const {
   const std::uint32_t key = (vec4_store ? 1u : 0u) | (accumulate ? 2u : 0u) | (bias_per << 2);
   const std::lock_guard lock(tiled_->mutex);
@@ -285,9 +265,9 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   if (s.m == 0 || s.n == 0 || s.batch == 0) return;
   const std::uint32_t lda = leading_a(s), ldb = leading_b(s), ldc = leading_c(s);
   const Binding bindings[] = {a, b, bias ? *bias : Binding(dummy_bias_), c};
-  std::uint32_t flags = (s.b_transposed ? kGemmTransposedB : 0u) | (bias ? kGemmBias : 0u) |
-                        (s.relu ? kGemmRelu : 0u) | (s.accumulate ? kGemmAccumulate : 0u) |
-                        (s.bias_per_row ? kGemmRowBias : 0u);
+  std::uint32_t flags = (s.b_transposed ? shader::kGemmTransposedB : 0u) | (bias ? shader::kGemmBias : 0u) |
+                        (s.relu ? shader::kGemmRelu : 0u) | (s.accumulate ? shader::kGemmAccumulate : 0u) |
+                        (s.bias_per_row ? shader::kGemmRowBias : 0u);
   const bool tiled = uses_tiled_kernel(s, a, b);
   const Kernel* kernel = &kernel_;
   Groups groups;
@@ -301,9 +281,9 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
     const bool bindings_aligned = a.offset % 16 == 0 && b.offset % 16 == 0;
     if (s.b_transposed && bindings_aligned &&
         multiples_of_4({s.k, lda, ldb, s.a_offset, s.b_offset, s.a_batch_stride, s.b_batch_stride}))
-      flags |= kGemmVec4K;
+      flags |= shader::kGemmVec4K;
     if (!s.b_transposed && bindings_aligned && multiples_of_4({s.n, ldb, s.b_offset, s.b_batch_stride}))
-      flags |= kGemmVec4N;
+      flags |= shader::kGemmVec4N;
     groups = {groups_for(groups_for(s.n, 4), kGroupX), groups_for(groups_for(s.m, kGemmRows), kGroupY), s.batch};
   }
   const GemmPush push{s.m, s.n, s.k, lda, ldb, ldc, s.a_offset, s.b_offset, s.c_offset,

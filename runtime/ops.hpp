@@ -37,11 +37,9 @@ inline constexpr std::size_t kPackedTexelBytes = 16;
 
 // Storage precision of convolution weights (Conv2d, Conv3x3MaxPool) for activations stored at `activations`:
 // fp32 for the 16-bit-storage variant (fp16s), which keeps only the activations in 16 bits. SuperPoint's dense
-// scores are far more sensitive to rounded weights than to rounded activations: against the golden PyTorch
-// outputs, 16-bit activations alone cost 1.3-1.4e-3 (max abs score error at 752x480 and 1241x376), 16-bit
-// weights on top 7e-3-1e-2 (float64 simulation, tools/superpoint_fp16_error.py). The weights are a few MB; the
-// activations are what 16 bits save bandwidth on. fp16 math (fp16) rounds the weights to multiply them in 16 bits
-// anyway, so it keeps them in 16 bits.
+// scores are far more sensitive to rounded weights than to rounded activations (docs/performance-history.md,
+// "Precision"); the weights are a few MB, the activations are what 16 bits save bandwidth on. fp16 math (fp16)
+// rounds the weights to multiply them in 16 bits anyway, so it keeps them in 16 bits.
 Precision conv_weight_precision(Precision activations);
 // The texel format the tiled convolutions read those weights through (4 output channels per texel).
 vk::Format conv_weight_texel_format(Precision activations);
@@ -133,7 +131,7 @@ struct GemmShape {
 // `tiled` (gemm_tiled.comp: 4 x 8 blocks of C, operands read through texel buffers of 4 fp32 or 8 fp16
 // elements) serves the calls whose operands are aligned to whole texels (uses_tiled_kernel) where the device
 // reads the texel format; `direct` (gemm.comp) serves every other call and device. `tiled_wide`
-// (gemm_tiled_wide.comp) is the same with 8 x 16 blocks, which `automatic` picks on CPU devices.
+// (gemm_tiled_wide) is the same with 8 x 16 blocks, which `automatic` picks where DeviceProfile::wide_gemm_tile.
 enum class GemmKernel { automatic, direct, tiled, tiled_wide };
 
 // Rows and columns of C per invocation of the tiled kernel; a workgroup spans `cols` columns.

@@ -12,7 +12,7 @@ namespace vkvo::rt {
 namespace {
 
 constexpr std::uint32_t kSetsPerPool = 128;
-constexpr std::uint32_t kMaxBindingsPerSet = 16;
+constexpr std::uint32_t kMaxBindingsPerSet = kMaxBindings;  // runtime/shader_interface.hpp
 constexpr auto kComputeAndTransfer = vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer;
 
 }  // namespace
@@ -91,11 +91,12 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
                         std::size_t push_bytes, Groups groups, std::string label) {
   if (!recording_) throw VulkanError("Sequence::dispatch outside begin()/end()");
   const auto& spec = kernel.spec();
-  if (bindings.size() != spec.bindings)
-    throw VulkanError(fmt::format("kernel '{}' takes {} buffers, {} given", spec.op, spec.bindings, bindings.size()));
-  if (push_bytes != spec.push_constant_bytes)
-    throw VulkanError(fmt::format("kernel '{}' takes {} push-constant bytes, {} given", spec.op,
-                                  spec.push_constant_bytes, push_bytes));
+  if (bindings.size() != kernel.bindings())
+    throw VulkanError(fmt::format("kernel '{}' takes {} buffers, {} given", kernel.name(), kernel.bindings(),
+                                  bindings.size()));
+  if (push_bytes != kernel.interface().push_constant_bytes)
+    throw VulkanError(fmt::format("kernel '{}' takes {} push-constant bytes, {} given", kernel.name(),
+                                  kernel.interface().push_constant_bytes, push_bytes));
   if (groups.x == 0 || groups.y == 0 || groups.z == 0) return;  // nothing to do (e.g. zero keypoints)
 
   if (sets_in_current_pool_ == kSetsPerPool) {
@@ -126,7 +127,7 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
     if (const vk::Format format = spec.texel_format(i); format != vk::Format::eUndefined) {
       if (b.offset % context_->caps().min_texel_buffer_offset_alignment != 0)
         throw VulkanError(fmt::format("kernel '{}': binding {} of '{}' starts at byte {}, not a multiple of the "
-                                      "device's texel-buffer offset alignment {}", spec.op, i, b.buffer->name(),
+                                      "device's texel-buffer offset alignment {}", kernel.name(), i, b.buffer->name(),
                                       b.offset, context_->caps().min_texel_buffer_offset_alignment));
       buffer_views_.push_back(context_->device().createBufferView(
           {.buffer = b.buffer->handle(), .format = format, .offset = b.offset, .range = b.range}));
@@ -136,7 +137,7 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
   std::vector<vk::WriteDescriptorSet> writes;
   for (std::uint32_t i = 0; i < infos.size(); ++i) {
     const bool texel = views[i] != vk::BufferView{};
-    writes.push_back({.dstSet = set, .dstBinding = i, .descriptorCount = 1, .descriptorType = spec.descriptor_type(i),
+    writes.push_back({.dstSet = set, .dstBinding = i, .descriptorCount = 1, .descriptorType = kernel.descriptor_type(i),
                       .pBufferInfo = texel ? nullptr : &infos[i], .pTexelBufferView = texel ? &views[i] : nullptr});
     if (kernel.writes(i)) next_accesses_[next_accesses_.size() - infos.size() + i] = Access::write;
   }
@@ -149,7 +150,7 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
     cmd_.getDispatcher()->vkCmdPushConstants(*cmd_, kernel.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
                                              static_cast<std::uint32_t>(push_bytes), push);
   cmd_.dispatch(groups.x, groups.y, groups.z);
-  timestamp_after(label.empty() ? spec.op : std::move(label));
+  timestamp_after(label.empty() ? std::string(kernel.name()) : std::move(label));
 }
 
 void Sequence::copy(const Buffer& src, const Buffer& dst, std::size_t bytes, std::size_t src_offset,

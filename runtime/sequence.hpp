@@ -44,8 +44,8 @@ struct CommandTiming {
 class Sequence {
  public:
   // A GPU timestamp after each of the first `max_timed_commands` commands, where the device has timestamps; 0
-  // records none. They are not free: lavapipe flushes its context at each one (about 35 us on 2 cores, 15 ms of
-  // SuperGlue's 300 dispatches at N = M = 200), so sequences of many short dispatches take them only to profile.
+  // records none. They are not free: lavapipe flushes its context at each one (docs/performance-history.md,
+  // "Device defaults"), so sequences of many short dispatches take them only to profile.
   explicit Sequence(const Context& context, std::uint32_t max_timed_commands = 512);
   ~Sequence();
   Sequence(const Sequence&) = delete;

@@ -1,26 +1,30 @@
 #include "runtime/shader_registry.hpp"
 
-#include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 
 namespace vkvo::rt {
 
-std::span<const std::uint32_t> find_shader(std::string_view op, Precision precision) {
-  const auto variant = to_string(precision);
-  for (const auto& shader : detail::embedded_shaders())
-    if (op == shader.op && variant == shader.variant) return {shader.words, shader.word_count};
-  throw std::invalid_argument(fmt::format("no embedded shader '{}' ({}); is shaders/{}.comp in the build?", op,
-                                          variant, op));
-}
+const OpInfo& op_info(Op op) { return detail::op_table()[static_cast<std::size_t>(op)]; }
 
-std::vector<std::string> shader_ops() {
-  std::vector<std::string> ops;
+std::string_view to_string(Op op) { return op_info(op).name; }
+
+const EmbeddedShader& find_shader(Op op, std::optional<Precision> precision) {
+  const OpInfo& info = op_info(op);
+  if (info.per_precision() && !precision)
+    throw std::invalid_argument(fmt::format("shader {} is compiled per precision: name one", info.name));
+  if (!info.per_precision() && precision)
+    throw std::invalid_argument(fmt::format("shader {} is compiled once for every precision: name none (got {})",
+                                            info.name, to_string(*precision)));
   for (const auto& shader : detail::embedded_shaders())
-    if (std::find(ops.begin(), ops.end(), shader.op) == ops.end()) ops.emplace_back(shader.op);
-  std::sort(ops.begin(), ops.end());
-  return ops;
+    if (shader.op == op && shader.precision == precision) return shader;
+  std::string compiled;
+  for (const Precision p : kAllPrecisions)
+    if (info.compiled_for(p)) compiled += (compiled.empty() ? "" : ", ") + std::string(to_string(p));
+  throw std::invalid_argument(fmt::format("shader {} has no {} variant: the shader table compiles it for {} only",
+                                          info.name, to_string(*precision), compiled));
 }
 
 }  // namespace vkvo::rt

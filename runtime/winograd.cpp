@@ -9,18 +9,14 @@
 #include <fmt/format.h>
 
 #include "runtime/context.hpp"
+#include "runtime/push_constants.hpp"
 #include "runtime/tensor_layout.hpp"
 
 namespace vkvo::rt {
 namespace {
 
-// Push-constant blocks, mirroring the shaders.
-struct InputPush {
-  std::uint32_t channels, height, width, tiles_x, tiles, first_tile_row;
-};
-struct OutputPush {
-  std::uint32_t channels, height, width, tiles_x, tiles, first_tile_row, out_pad, relu;
-};
+using shader::WinogradInputPush;
+using shader::WinogradOutputPush;
 
 constexpr std::uint32_t kGroup = 64;  // local_size_x of the transform shaders
 
@@ -47,16 +43,21 @@ std::span<const std::array<double, 3>> filter_transform(WinogradConv3x3::Tile ti
   return kG43;
 }
 
-// The shaders built for `tile`: winograd_f43_<stage> or winograd_f63_<stage>.
-std::string shader(WinogradConv3x3::Tile tile, const char* stage) {
-  return fmt::format("winograd_f{}3_{}", std::uint32_t(tile), stage);
+// The transforms of each tile: the shader table's winograd_f43_* and winograd_f63_* ops.
+struct TransformOps {
+  Op input, input_wide, input_stem, input_stem_wide, output, output_maxpool;
+};
+TransformOps transform_ops(WinogradConv3x3::Tile tile) {
+  if (tile == WinogradConv3x3::Tile::f63)
+    return {Op::winograd_f63_input, Op::winograd_f63_input_wide, Op::winograd_f63_input_stem,
+            Op::winograd_f63_input_stem_wide, Op::winograd_f63_output, Op::winograd_f63_output_maxpool};
+  return {Op::winograd_f43_input, Op::winograd_f43_input_wide, Op::winograd_f43_input_stem,
+          Op::winograd_f43_input_stem_wide, Op::winograd_f43_output, Op::winograd_f43_output_maxpool};
 }
 
-// The last binding is written; the first `texel_bindings` are read through RGBA texel views.
-KernelSpec transform_spec(const std::string& op, Precision precision, std::uint32_t bindings, std::uint32_t push_bytes,
-                          std::uint32_t texel_bindings = 1) {
-  return {.op = op, .precision = precision, .bindings = bindings, .written_bindings = 1u << (bindings - 1),
-          .push_constant_bytes = push_bytes, .specialization = {},
+// The first `texel_bindings` bindings are read through RGBA texel views.
+KernelSpec transform_spec(Op op, Precision precision, std::uint32_t texel_bindings = 1) {
+  return {.op = op, .precision = precision,
           .texel_formats = std::vector<vk::Format>(texel_bindings, vec4_texel_format(precision))};
 }
 
@@ -73,21 +74,17 @@ Precision checked_precision(const Context& context, Precision precision) {
 
 WinogradConv3x3::WinogradConv3x3(const Context& context, Precision precision, Tile tile, std::size_t max_band_bytes)
     : tile_(tile),
-      input_transform_(context, transform_spec(shader(tile, "input"), checked_precision(context, precision), 2,
-                                               sizeof(InputPush))),
-      stem_input_transform_(context, transform_spec(shader(tile, "input_stem"), precision, 4, sizeof(InputPush), 2)),
-      output_transform_(context, transform_spec(shader(tile, "output"), precision, 3, sizeof(OutputPush))),
-      output_pool_transform_(context, transform_spec(shader(tile, "output_maxpool"), precision, 3,
-                                                     sizeof(OutputPush))),
+      input_transform_(context, transform_spec(transform_ops(tile).input, checked_precision(context, precision))),
+      stem_input_transform_(context, transform_spec(transform_ops(tile).input_stem, precision, 2)),
+      output_transform_(context, transform_spec(transform_ops(tile).output, precision)),
+      output_pool_transform_(context, transform_spec(transform_ops(tile).output_maxpool, precision)),
       gemm_(context, precision),
       max_texel_elements_(context.caps().max_texel_buffer_elements),
       max_band_bytes_(std::min<std::size_t>({max_band_bytes, context.caps().max_storage_buffer_range,
                                               std::size_t(context.caps().max_texel_buffer_elements) * 16})) {
   if (context.caps().int64) {
-    wide_input_transform_.emplace(context,
-                                  transform_spec(shader(tile, "input_wide"), precision, 2, sizeof(InputPush)));
-    wide_stem_input_transform_.emplace(
-        context, transform_spec(shader(tile, "input_stem_wide"), precision, 4, sizeof(InputPush), 2));
+    wide_input_transform_.emplace(context, transform_spec(transform_ops(tile).input_wide, precision));
+    wide_stem_input_transform_.emplace(context, transform_spec(transform_ops(tile).input_stem_wide, precision, 2));
   }
 }
 
@@ -167,7 +164,7 @@ void WinogradConv3x3::record(Sequence& seq, const Buffer& input, const Activatio
   const bool wide = wide_input_transform(in);
   for (std::uint32_t first_row = 0; first_row < rows; first_row += rows_per_band) {
     const std::uint32_t band_tiles = std::min(rows_per_band, rows - first_row) * columns;
-    const InputPush input_push{in.channels, in.height, in.width, columns, band_tiles, first_row};
+    const WinogradInputPush input_push{in.channels, in.height, in.width, columns, band_tiles, first_row};
     const Groups input_groups{groups_for(std::size_t(band_tiles) * (in.channels / (wide ? 8 : 4)), kGroup)};
     if (stem)
       seq.dispatch(wide ? *wide_stem_input_transform_ : stem_input_transform_,
@@ -181,7 +178,7 @@ void WinogradConv3x3::record(Sequence& seq, const Buffer& input, const Activatio
                           .b_batch_stride = out4 * in.channels, .c_batch_stride = band_tiles * out4};
     gemm_.record(seq, transformed_band, weights, nullptr, products_band, shape, prefix + " gemm");
     seq.dispatch(max_pool ? output_pool_transform_ : output_transform_, {products_band, bias, output},
-                 OutputPush{out.channels, in.height, in.width, columns, band_tiles, first_row, out.pad,
+                 WinogradOutputPush{out.channels, in.height, in.width, columns, band_tiles, first_row, out.pad,
                             relu ? 1u : 0u},
                  {groups_for(std::size_t(band_tiles) * groups_for(out.channels, 4), kGroup)},
                  prefix + " output");

@@ -1,15 +1,12 @@
 #pragma once
 // 3x3 convolution (stride 1, pad 1) + bias (+ ReLU) (+ 2x2 max-pool) by Winograd's F(m x m, 3x3), m = 4 or 6: an
 // input transform, a batch of (m + 2)^2 GEMMs (one per transformed point: tiles x in_channels times in_channels x
-// out_channels) and an output transform (shaders/winograd_f43_*.comp, winograd_f63_*.comp and their headers
-// shaders/include/winograd_*.glsl). F(4x4, 3x3) does 4x fewer multiply-adds than the direct convolution, F(6x6,
-// 3x3) 5.1x, for two extra passes over memory. fp32 only: F(4x4, 3x3)'s transforms scale values by up to 10 (input:
-// B^T's largest absolute row sum) and 19 (output: A^T's) per dimension, F(6x6, 3x3)'s by 12.5 and 67, more than
-// 16-bit storage's 11 bits can carry within the golden tolerances. Measured with SuperPoint's weights on the
-// golden EuRoC crops (tools/superpoint_fp16_error.py): with only the transformed weights in 16 bits the dense scores
-// are 2.0-2.9e-3 (F(4x4)) and 7.9e-3-2.3e-2 (F(6x6)) off the reference, with only the transformed input 2.2-4.2e-3
-// and 4.4-6.9e-3, against the fp16 acceptance of 2e-3 that the direct kernels' 16-bit activations meet (0.9-1.1e-3).
-// (Halving the GEMMs' texel fetches that way would have been worth up to a quarter of their time on lavapipe.)
+// out_channels) and an output transform (the shader table's winograd_f43_* and winograd_f63_* ops:
+// shaders/winograd_input.comp, winograd_input_stem.comp, winograd_output.comp). F(4x4, 3x3) does 4x fewer
+// multiply-adds than the direct convolution, F(6x6, 3x3) 5.1x, for two extra passes over memory. fp32 only (the
+// table builds no other variant): F(4x4, 3x3)'s transforms scale values by up to 10 (input: B^T's largest absolute
+// row sum) and 19 (output: A^T's) per dimension, F(6x6, 3x3)'s by 12.5 and 67, more than 16-bit storage's 11 bits
+// can carry within the golden tolerances (docs/performance-history.md, "Precision").
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -30,8 +27,7 @@ class WinogradConv3x3 {
   static constexpr std::uint32_t points(Tile tile) { return (std::uint32_t(tile) + 2) * (std::uint32_t(tile) + 2); }
 
   // Scratch bytes per band by default: within lavapipe's 128 MiB storage-buffer range and a few times a desktop
-  // CPU's last-level cache. SuperPoint 640x480 measured the same at 32 MiB and 120 MiB bands within this
-  // machine's noise (1.19-1.47 s vs 1.39-1.55 s, alternating runs), so the smaller one.
+  // CPU's last-level cache; larger bands measured no faster (docs/performance-history.md, "SuperPoint").
   static constexpr std::size_t kDefaultBandBytes = std::size_t(32) << 20;
 
   // Throws std::invalid_argument unless `precision` is fp32 and the device reads the tiled kernels' texel formats.

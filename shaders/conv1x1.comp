@@ -12,15 +12,7 @@ layout(std430, binding = 1) readonly buffer Weights { wvec4 weights[]; };
 layout(std430, binding = 2) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 3) writeonly buffer Output { sfloat dst[]; };
 
-layout(push_constant) uniform Params {
-  uint in_channels;
-  uint out_channels;
-  uint height;
-  uint width;
-  uint in_pad;
-  uint out_pad;
-  uint relu;
-} p;
+#include "push/conv1x1.h"
 
 const uint kPixels = 4;
 

@@ -21,15 +21,7 @@ layout(binding = 1) uniform textureBuffer weights;  // one vec4 (4 output channe
 layout(std430, binding = 2) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 3) writeonly buffer Output { sfloat dst[]; };
 
-layout(push_constant) uniform Params {
-  uint in_channels;
-  uint out_channels;
-  uint height;
-  uint width;
-  uint in_pad;
-  uint out_pad;
-  uint relu;
-} p;
+#include "push/conv1x1.h"
 
 const uint kPixels = 8;
 
@@ -53,7 +45,7 @@ void main() {
   const uint x0 = (gl_WorkGroupID.y * gl_WorkGroupSize.x + gl_LocalInvocationID.x) * kPixels;
   const uint y = min(gl_WorkGroupID.z * gl_WorkGroupSize.y + gl_LocalInvocationID.y, p.height - 1u);
   const bool row_valid = gl_WorkGroupID.z * gl_WorkGroupSize.y + gl_LocalInvocationID.y < p.height;
-  if (x0 >= p.width || !row_valid) return;  // no pixel of the image: skip the loop (conv3x3_tiled_body.glsl)
+  if (x0 >= p.width || !row_valid) return;  // no pixel of the image: skip the loop (conv3x3_tiled.comp)
   const uint blocks4 = (p.out_channels + 3u) / 4u;
 
   const uint in_plane = plane_size(p.height, p.width, p.in_pad);

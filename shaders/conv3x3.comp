@@ -13,14 +13,7 @@ layout(std430, binding = 1) readonly buffer Weights { wvec4 weights[]; };
 layout(std430, binding = 2) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 3) writeonly buffer Output { sfloat dst[]; };
 
-layout(push_constant) uniform Params {
-  uint in_channels;
-  uint out_channels;
-  uint height;
-  uint width;
-  uint out_pad;
-  uint relu;
-} p;
+#include "push/conv3x3.h"
 
 const uint kPixels = 3;
 

@@ -7,7 +7,7 @@
 // Each invocation computes a ROWS x 4 block of C: ROWS * 4 independent accumulators (lavapipe runs fastest with
 // about 12 per invocation, method-notes). Edges are clamped on load and masked on store. Where the host has checked
 // alignment, operands are read as vec4s (one bounds-checked access per 4 elements on lavapipe): along K for both
-// operands when B is transposed (kVec4K), along N for B otherwise (kVec4N).
+// operands when B is transposed (kGemmVec4K), along N for B otherwise (kGemmVec4N).
 #include "precision.glsl"
 
 #define ROWS 3
@@ -21,24 +21,15 @@ layout(std430, binding = 1) readonly buffer MatB4 { svec4 b4[]; };
 layout(std430, binding = 2) readonly buffer Bias { float bias[]; };
 layout(std430, binding = 3) buffer MatC { sfloat c[]; };
 
-const uint kTransposedB = 1u, kBias = 2u, kRelu = 4u, kAccumulate = 8u, kVec4K = 16u, kVec4N = 32u;
-const uint kRowBias = 64u;  // with kBias: one bias per row of C (M values) instead of per column
 
-layout(push_constant) uniform Params {
-  uint m, n, k;
-  uint lda, ldb, ldc;
-  uint a_offset, b_offset, c_offset;
-  uint a_batch, b_batch, c_batch;  // element strides between consecutive batches (gl_WorkGroupID.z)
-  uint flags;
-  float alpha;
-} p;
+#include "push/gemm.h"
 
 void main() {
   const uint n0 = gl_GlobalInvocationID.x * 4u;
   const uint m0 = gl_GlobalInvocationID.y * ROWS;
   if (m0 >= p.m || n0 >= p.n) return;
   const uint batch = gl_WorkGroupID.z;
-  const bool transposed = (p.flags & kTransposedB) != 0u;
+  const bool transposed = (p.flags & kGemmTransposedB) != 0u;
   uint rows[ROWS];
   for (uint i = 0; i < ROWS; ++i) rows[i] = p.a_offset + batch * p.a_batch + min(m0 + i, p.m - 1u) * p.lda;
   uint cols[4];
@@ -51,7 +42,7 @@ void main() {
 
   vec4 acc[ROWS];
   for (uint i = 0; i < ROWS; ++i) acc[i] = vec4(0);
-  if ((p.flags & kVec4K) != 0u) {
+  if ((p.flags & kGemmVec4K) != 0u) {
     // acc[i][j] = sum over k of A[row i] . B[col j], four k at a time.
     for (uint i = 0; i < ROWS; ++i) rows[i] /= 4u;
     for (uint j = 0; j < 4u; ++j) col_base[j] /= 4u;
@@ -64,7 +55,7 @@ void main() {
         acc[i] += vec4(float(dot(av, b0)), float(dot(av, b1)), float(dot(av, b2)), float(dot(av, b3)));
       }
     }
-  } else if ((p.flags & kVec4N) != 0u) {
+  } else if ((p.flags & kGemmVec4N) != 0u) {
     // One vec4 of B's row kk covers the block's four columns (n is a multiple of 4).
     const uint b4_base = (b_base + n0) / 4u, ldb4 = p.ldb / 4u;
     for (uint kk = 0; kk < p.k; ++kk) {
@@ -78,9 +69,9 @@ void main() {
       for (uint i = 0; i < ROWS; ++i) acc[i] += vec4(afloat(a[rows[i] + kk]) * bv);
     }
   }
-  const bool row_bias = (p.flags & (kBias | kRowBias)) == (kBias | kRowBias);
+  const bool row_bias = (p.flags & (kGemmBias | kGemmRowBias)) == (kGemmBias | kGemmRowBias);
   vec4 bias4 = vec4(0);
-  if ((p.flags & kBias) != 0u && !row_bias) bias4 = vec4(bias[cols[0]], bias[cols[1]], bias[cols[2]], bias[cols[3]]);
+  if ((p.flags & kGemmBias) != 0u && !row_bias) bias4 = vec4(bias[cols[0]], bias[cols[1]], bias[cols[2]], bias[cols[3]]);
   const uint c_base = p.c_offset + batch * p.c_batch;
   for (uint i = 0; i < ROWS && m0 + i < p.m; ++i) {
     const uint row = c_base + (m0 + i) * p.ldc;
@@ -88,8 +79,8 @@ void main() {
     if (row_bias) v += bias[m0 + i];
     for (uint j = 0; j < 4u && n0 + j < p.n; ++j) {
       float x = v[j];
-      if ((p.flags & kAccumulate) != 0u) x += float(c[row + n0 + j]);
-      if ((p.flags & kRelu) != 0u) x = max(x, 0.0);
+      if ((p.flags & kGemmAccumulate) != 0u) x += float(c[row + n0 + j]);
+      if ((p.flags & kGemmRelu) != 0u) x = max(x, 0.0);
       c[row + n0 + j] = sfloat(x);
     }
   }

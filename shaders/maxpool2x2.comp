@@ -8,13 +8,7 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 layout(std430, binding = 0) readonly buffer Input { sfloat src[]; };
 layout(std430, binding = 1) writeonly buffer Output { sfloat dst[]; };
 
-layout(push_constant) uniform Params {
-  uint channels;
-  uint in_height;
-  uint in_width;
-  uint in_pad;
-  uint out_pad;
-} p;
+#include "push/maxpool2x2.h"
 
 void main() {
   const uint out_h = p.in_height / 2u, out_w = p.in_width / 2u;

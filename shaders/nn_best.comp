@@ -9,9 +9,7 @@ layout(std430, binding = 1) writeonly buffer Best { int best[]; };            //
 layout(std430, binding = 2) writeonly buffer BestValue { float best_value[]; };  // n0 + n1
 layout(std430, binding = 3) writeonly buffer Second { float second_value[]; };   // n0 + n1
 
-layout(push_constant) uniform Params {
-  uint n0, n1;
-} p;
+#include "push/set_sizes.h"
 
 void main() {
   const uint t = gl_GlobalInvocationID.x;

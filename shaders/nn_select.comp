@@ -10,10 +10,7 @@ layout(std430, binding = 2) readonly buffer Second { float second_value[]; };
 layout(std430, binding = 3) writeonly buffer Matches { int matches0[]; };
 layout(std430, binding = 4) writeonly buffer MatchScores { float scores0[]; };
 
-layout(push_constant) uniform Params {
-  uint n0, n1;
-  float max_cosine_distance, ratio;
-} p;
+#include "push/nn_select.h"
 
 void main() {
   const uint i = gl_GlobalInvocationID.x;

@@ -7,9 +7,7 @@ layout(std430, binding = 0) readonly buffer Assignment { float z[]; };  // (n0 +
 layout(std430, binding = 1) writeonly buffer Best { int best[]; };      // n0 + n1 indices
 layout(std430, binding = 2) writeonly buffer BestValue { float best_value[]; };
 
-layout(push_constant) uniform Params {
-  uint n0, n1;
-} p;
+#include "push/set_sizes.h"
 
 void main() {
   const uint t = gl_GlobalInvocationID.x;

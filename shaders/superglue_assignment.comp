@@ -6,10 +6,7 @@ layout(std430, binding = 0) buffer Couplings { float z[]; };
 layout(std430, binding = 1) readonly buffer RowPotential { float u[]; };
 layout(std430, binding = 2) readonly buffer ColPotential { float v[]; };
 
-layout(push_constant) uniform Params {
-  uint rows, cols;
-  float norm;
-} p;
+#include "push/assignment.h"
 
 void main() {
   const uint e = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u;

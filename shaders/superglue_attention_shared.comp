@@ -7,8 +7,8 @@
 // rows; each invocation computes the scores of every kParts-th key of the tile for its row (the whole head's dot
 // product, its query row in registers), then, after a barrier, runs the online softmax over the tile's scores and
 // updates the accumulators of its quarter of the head's dimensions. The tiled form keeps a few whole rows per
-// invocation with all their accumulators, which suits a CPU's few wide threads; on a GPU it left most of the chip
-// idle (N = M = 1000 on an H200: 4 x 250 invocations per dispatch, attention 59 of SuperGlue's 69 ms).
+// invocation with all their accumulators, which suits a CPU's few wide threads; on a GPU it leaves most of the
+// chip idle (docs/performance-history.md, "SuperGlue").
 // fp32 math and fp32 tiles in every variant.
 #include "packed_texel.glsl"
 #extension GL_EXT_control_flow_attributes : require
@@ -22,14 +22,7 @@ layout(constant_id = 0) const uint kHeadVec4 = 16;  // head_dim / 4
 PACKED_TEXELS(0, qkv);  // rows of [q | k | v], 3 * dim values, kPerTexel per texel (the host: head_dim a multiple)
 layout(std430, binding = 1) writeonly buffer State { sfloat state[]; };  // rows of [descriptor | message]
 
-layout(push_constant) uniform Params {
-  uint queries;     // rows of the query set
-  uint keys;        // rows of the key set
-  uint query_row0;  // first qkv / state row of the query set
-  uint key_row0;    // first qkv row of the key set
-  uint dim;         // descriptor dimension (heads x head_dim)
-  float scale;      // 1 / sqrt(head_dim)
-} p;
+#include "push/attention.h"
 
 const uint kHeadTexels = kHeadVec4 / kVecs;
 const uint kPartVec4 = (kHeadVec4 + kParts - 1u) / kParts;  // accumulator vec4s per invocation

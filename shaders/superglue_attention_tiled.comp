@@ -1,23 +1,16 @@
 #version 450
 // SuperGlue multi-head attention in one pass, for one keypoint set's queries over a set's keys and values:
 //   message[i, head h] = sum_j softmax_j(<q_i, k_j> / sqrt(head_dim)) v_j      (dims of head h only)
-// written into the message half of the state rows. The scores are never stored: each invocation keeps kRows query
-// rows of one head, walks the keys 8 at a time and keeps a running maximum, sum and weighted sum of values per
-// row (the online softmax), rescaling them when the maximum grows. The three-pass form (q.k GEMM, softmax, p.v
-// GEMM) wrote and read back heads x N x M scores per layer, which on lavapipe means a scalar store per score
-// and lane; at N = M = 1000 those passes took 2.6 s of SuperGlue's 5 s.
+// written into the message half of the state rows. The scores are never stored (the three-pass form's score
+// stores were lavapipe's largest cost): each invocation keeps kRows query rows of one head, walks the keys 8 at a
+// time and keeps a running maximum, sum and weighted sum of values per row (the online softmax).
 //
-// Per block of 8 keys an invocation fetches the 8 key rows, computes its kRows x 8 scores, then fetches the 8
-// value rows and adds them to its accumulators, every fetch of a phase before its arithmetic (on lavapipe a texel
-// fetch is a call that clobbers the vector registers; the accumulators live on the stack and are touched once
-// per block). Keys and values are the same texels in every lane of a workgroup. fp32 math in every variant;
-// 16-bit storage reads 8 halves per fetch (packed_texel.glsl), half the fetches of an RGBA16F view (fp16s at
-// N = M = 1000 on lavapipe: attention 686-717 -> 645-660 ms, the whole call 1.52-1.57 -> 1.46-1.47 s, three
-// alternating pairs; fp32, 4 values per texel, about as fast as that).
-// The key and value fetches serve all kRows rows: 8 rows instead of 4 halve them per multiply-add, and made the
-// attention at N = M = 1000 11 % faster on lavapipe (1.70-2.05 vs 1.90-2.08 s, seven alternating pairs; no
-// change at N = 200 and 400); 16 rows measured no better than 8. GPUs run superglue_attention_shared.comp instead
-// (this kernel with 4 rows only when asked): on an H200 this one left most of the chip idle.
+// The CPU form: per block of 8 keys an invocation fetches the key rows, computes its kRows x 8 scores, then fetches
+// the value rows, every fetch of a phase before its arithmetic (on lavapipe a texel fetch is a call that clobbers
+// the vector registers). Keys and values are the same texels in every lane and serve all kRows rows, so more rows
+// fetch less per multiply-add (the host: 8 on CPUs). fp32 math in every variant; 16-bit storage reads 8 halves per
+// fetch (packed_texel.glsl). GPUs run superglue_attention_shared.comp. Figures: docs/performance-history.md,
+// "SuperGlue".
 #include "packed_texel.glsl"
 #extension GL_EXT_control_flow_attributes : require
 
@@ -28,14 +21,7 @@ layout(constant_id = 1) const uint kRows = 8;       // query rows per invocation
 PACKED_TEXELS(0, qkv);  // rows of [q | k | v], 3 * dim values, kPerTexel per texel (the host: head_dim a multiple)
 layout(std430, binding = 1) writeonly buffer State { sfloat state[]; };  // rows of [descriptor | message]
 
-layout(push_constant) uniform Params {
-  uint queries;     // rows of the query set
-  uint keys;        // rows of the key set
-  uint query_row0;  // first qkv / state row of the query set
-  uint key_row0;    // first qkv row of the key set
-  uint dim;         // descriptor dimension (heads x head_dim)
-  float scale;      // 1 / sqrt(head_dim)
-} p;
+#include "push/attention.h"
 
 const uint kKeys = 8;
 const uint kHeadTexels = kHeadVec4 / kVecs;

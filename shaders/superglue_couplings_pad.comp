@@ -8,9 +8,7 @@ layout(std430, binding = 0) readonly buffer Couplings { float z[]; };
 layout(std430, binding = 1) writeonly buffer Rows { float by_row[]; };
 layout(std430, binding = 2) writeonly buffer Columns { float by_column[]; };
 
-layout(push_constant) uniform Params {
-  uint rows, cols, rows_padded, cols_padded;
-} p;
+#include "push/couplings_pad.h"
 
 void main() {
   const uint j = gl_GlobalInvocationID.x, i = gl_GlobalInvocationID.y;

@@ -10,10 +10,7 @@ layout(std430, binding = 0) readonly buffer Keypoints { float kpts[]; };  // (n0
 layout(std430, binding = 1) readonly buffer Scores { float scores[]; };   // n0 + n1
 layout(std430, binding = 2) writeonly buffer Encoded { sfloat encoded[]; };  // (n0 + n1) x 4
 
-layout(push_constant) uniform Params {
-  uint n0, n1;
-  float width0, height0, width1, height1;
-} p;
+#include "push/keypoints.h"
 
 void main() {
   const uint r = gl_GlobalInvocationID.x;

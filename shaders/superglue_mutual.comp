@@ -9,10 +9,7 @@ layout(std430, binding = 1) readonly buffer BestValue { float best_value[]; };
 layout(std430, binding = 2) writeonly buffer Matches { int matches0[]; };
 layout(std430, binding = 3) writeonly buffer MatchScores { float scores0[]; };
 
-layout(push_constant) uniform Params {
-  uint n0, n1;
-  float threshold;
-} p;
+#include "push/mutual.h"
 
 void main() {
   const uint i = gl_GlobalInvocationID.x;

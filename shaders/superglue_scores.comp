@@ -10,10 +10,7 @@ layout(local_size_x = 16, local_size_y = 4) in;
 layout(std430, binding = 0) readonly buffer Desc { sfloat desc[]; };  // (n0 + n1) x dim: image 0 rows, then image 1
 layout(std430, binding = 1) writeonly buffer Couplings { float z[]; };
 
-layout(push_constant) uniform Params {
-  uint n0, n1, dim;
-  float scale, bin_score;
-} p;
+#include "push/scores.h"
 
 void main() {
   const uint j0 = gl_GlobalInvocationID.x * 4u;

@@ -4,17 +4,13 @@
 // makes 7 fetches for its 3 x 4 block where the storage-buffer kernel makes 28 loads, each a scalar loop over the
 // lanes on lavapipe. Used where the descriptors fit maxTexelBufferElements.
 #include "texel_buffer.glsl"
-#include "precision.glsl"
 
 layout(local_size_x = 16, local_size_y = 4) in;
 
 layout(binding = 0) uniform textureBuffer desc;  // (n0 + n1) x dim: image 0 rows, then image 1; 4 per texel
 layout(std430, binding = 1) writeonly buffer Couplings { float z[]; };
 
-layout(push_constant) uniform Params {
-  uint n0, n1, dim;
-  float scale, bin_score;
-} p;
+#include "push/scores.h"
 
 void main() {
   const uint j0 = gl_GlobalInvocationID.x * 4u;

@@ -9,10 +9,7 @@ layout(std430, binding = 0) readonly buffer Couplings { float z[]; };
 layout(std430, binding = 1) buffer RowPotential { float u[]; };
 layout(std430, binding = 2) buffer ColPotential { float v[]; };
 
-layout(push_constant) uniform Params {
-  uint rows, cols, axis;
-  float norm;
-} p;
+#include "push/sinkhorn.h"
 
 void main() {
   const uint t = gl_GlobalInvocationID.x;

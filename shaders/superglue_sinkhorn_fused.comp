@@ -1,9 +1,9 @@
 #version 450
 // Every iteration of log-space Sinkhorn (formulas in superglue_sinkhorn.comp) in one workgroup, always fp32: the
 // potentials live in shared memory and a workgroup barrier separates the half-iterations. For small problems:
-// one dispatch instead of two per iteration. On lavapipe each dispatch costs a wake-up of its worker threads
-// (about 0.07 ms on 2 cores, 14 ms of SuperGlue's 100 iterations whatever N), while one workgroup runs on one
-// thread, so this pays only while a half-iteration's work is small (the host chooses by the size of Z).
+// one dispatch instead of two per iteration. On lavapipe each dispatch costs a wake-up of its worker threads, while
+// one workgroup runs on one thread, so this pays only while a half-iteration's work is small (the host chooses by
+// the size of Z: DeviceProfile::fused_sinkhorn_max_cells; docs/performance-history.md, "SuperGlue").
 // The couplings come as superglue_sinkhorn_tiled.comp takes them: Z's rows and Z^T's rows, padded to texels.
 #include "texel_buffer.glsl"
 layout(local_size_x = 128) in;
@@ -15,12 +15,7 @@ layout(binding = 1) uniform textureBuffer by_column;  // cols x column_texels te
 layout(std430, binding = 2) writeonly buffer RowPotential { vec4 u4[]; };
 layout(std430, binding = 3) writeonly buffer ColumnPotential { vec4 v4[]; };
 
-layout(push_constant) uniform Params {
-  uint rows, cols;                  // of Z, dustbins included
-  uint row_texels, column_texels;   // texels per padded row (cols / 4 rounded up) and per padded column
-  uint iterations;
-  float norm;
-} p;
+#include "push/sinkhorn_fused.h"
 
 // Potentials padded to whole texels with zeros: kMaxTexels * 4 lines per axis (the host checks).
 const uint kMaxTexels = 256;

@@ -3,8 +3,7 @@
 // superglue_sinkhorn_tiled.comp (same bindings and push constants): a workgroup per line rather than an
 // invocation. Each invocation keeps a running maximum and sum of exponentials over every 64th texel of the line,
 // and the workgroup merges the 64 pairs in shared memory. One invocation walking a whole line suits a CPU's few
-// threads; on an H200 it ran a half-iteration at N = M = 1000 as 16 workgroups of 250 dependent fetches each
-// (Sinkhorn 6.0 of SuperGlue's 17 ms of GPU time).
+// threads; on a GPU it leaves most of the chip idle with long chains of dependent fetches (docs/performance-history.md, "SuperGlue").
 #include "texel_buffer.glsl"
 layout(local_size_x = 64) in;
 
@@ -12,12 +11,7 @@ layout(binding = 0) uniform textureBuffer couplings;  // lines x (texels * 4): r
 layout(binding = 1) uniform textureBuffer other;      // the other axis' potential, texels * 4 entries
 layout(std430, binding = 2) writeonly buffer Potential { float potential[]; };
 
-layout(push_constant) uniform Params {
-  uint lines;        // rows of Z (row half) or columns (column half), dustbin included
-  uint line_length;  // entries per line, dustbin included
-  uint texels;       // texels per padded line
-  float norm;
-} p;
+#include "push/sinkhorn_half.h"
 
 #define SINKHORN_OTHER(e) texelFetch(other, int(e))
 #include "sinkhorn_line.glsl"

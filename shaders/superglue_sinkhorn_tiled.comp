@@ -2,8 +2,8 @@
 // One half-iteration of log-space Sinkhorn (formulas in superglue_sinkhorn.comp), always fp32, for devices that
 // read RGBA32F texel buffers: the couplings of this axis' lines (Z for the rows, Z^T for the columns, so both
 // halves walk rows in memory order) and the other axis' potential are fetched 4 entries at a time.
-// superglue_sinkhorn.comp read both through storage buffers, which lavapipe loads one lane at a time, and walked
-// the columns with a stride of a whole row: 0.2-3.7 s of SuperGlue's 1.1-12 s at N = 200-1000 on lavapipe.
+// superglue_sinkhorn.comp reads both through storage buffers, which lavapipe loads one lane at a time, and walks
+// the columns with a stride of a whole row (docs/performance-history.md, "SuperGlue").
 #include "texel_buffer.glsl"
 layout(local_size_x = 64) in;
 
@@ -11,12 +11,7 @@ layout(binding = 0) uniform textureBuffer couplings;  // lines x (texels * 4): r
 layout(binding = 1) uniform textureBuffer other;      // the other axis' potential, texels * 4 entries
 layout(std430, binding = 2) writeonly buffer Potential { float potential[]; };
 
-layout(push_constant) uniform Params {
-  uint lines;        // rows of Z (row half) or columns (column half), dustbin included
-  uint line_length;  // entries per line, dustbin included
-  uint texels;       // texels per padded line
-  float norm;
-} p;
+#include "push/sinkhorn_half.h"
 
 #define SINKHORN_OTHER(e) texelFetch(other, int(e))
 #include "sinkhorn_line.glsl"

@@ -2,13 +2,13 @@
 // Row-wise softmax in place over `rows` rows of `cols` attention scores (all heads of one keypoint set), fp32
 // math whatever the storage. Rows start `stride` scores apart, a multiple of 4 (the host pads them), and the
 // padding columns are set to zero probability: the p.v GEMM reads them, and the buffer is shared by layers
-// whose strides differ, so they may hold another layer's scores. One invocation per row: rows are many (heads x points), and the passes
-// over a row stay in the invocation's cache.
+// whose strides differ, so they may hold another layer's scores. One invocation per row: rows are many (heads x
+// points), and the passes over a row stay in the invocation's cache.
 //
 // Scores are read and written 4 at a time, and the exponentials are recomputed in the last pass instead of
 // being stored and read back: lavapipe loads and stores storage buffers in a scalar loop over the lanes per
 // access, so 3 vec4 loads and 1 vec4 store per 4 scores cost a fifth of 3 scalar loads and 2 scalar stores per
-// score (measured: 1.5-2x faster at 400 keypoints).
+// score (docs/performance-history.md, "SuperGlue").
 #include "precision.glsl"
 
 layout(local_size_x = 64) in;
@@ -16,9 +16,7 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) buffer Scores { sfloat s[]; };
 layout(std430, binding = 0) buffer Scores4 { svec4 s4[]; };
 
-layout(push_constant) uniform Params {
-  uint rows, cols, stride;
-} p;
+#include "push/softmax.h"
 
 void main() {
   const uint r = gl_GlobalInvocationID.x;

@@ -12,11 +12,7 @@ layout(std430, binding = 1) readonly buffer Weights { wvec4 weights[]; };
 layout(std430, binding = 2) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 3) writeonly buffer Scores { float dense[]; };  // (Hc*8) x (Wc*8)
 
-layout(push_constant) uniform Params {
-  uint in_channels;
-  uint cells_h;
-  uint cells_w;
-} p;
+#include "push/detector_head.h"
 
 const uint kBlocks = 17;  // 65 channels padded to 68
 

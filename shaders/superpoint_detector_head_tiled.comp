@@ -5,9 +5,8 @@
 // adjacent cells, so the 17 weight vectors of an input channel serve kCells cells; per step of 4 input channels
 // all operands are fetched first and then every logit takes its 4 products at once (on lavapipe each fetch is a
 // call that clobbers the vector registers, so the 4 x 68 logits live on the stack: updating them once per step,
-// not once per channel, is what keeps the stores from binding the kernel). Measured on lavapipe (Mesa 22.3, 2 Zen
-// 3 cores), 256 channels at 80 x 60 cells: 342 ms with the storage-buffer kernel, 8 ms with this one. The host
-// guarantees in_channels % 4 == 0.
+// not once per channel, is what keeps the stores from binding the kernel; docs/performance-history.md,
+// "SuperPoint"). The host guarantees in_channels % 4 == 0.
 #include "texel_buffer.glsl"
 #extension GL_EXT_control_flow_attributes : require
 #include "precision.glsl"
@@ -19,11 +18,7 @@ layout(binding = 1) uniform textureBuffer weights;  // "o4" [17][I]: one vec4 (4
 layout(std430, binding = 2) readonly buffer Bias { vec4 bias[]; };
 layout(std430, binding = 3) writeonly buffer Scores { float dense[]; };  // (Hc*8) x (Wc*8)
 
-layout(push_constant) uniform Params {
-  uint in_channels;
-  uint cells_h;
-  uint cells_w;
-} p;
+#include "push/detector_head.h"
 
 const uint kBlocks = 17;  // 65 channels padded to 68
 const uint kCells = 4;    // adjacent cells per invocation

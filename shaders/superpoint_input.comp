@@ -10,10 +10,7 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 layout(std430, binding = 0) readonly buffer Image { uint pixels[]; };
 layout(std430, binding = 1) writeonly buffer Output { sfloat dst[]; };
 
-layout(push_constant) uniform Params {
-  uint width;
-  uint height;
-} p;
+#include "push/image_input.h"
 
 void main() {
   const uint i = gl_GlobalInvocationID.x;

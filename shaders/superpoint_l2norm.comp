@@ -8,10 +8,7 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 layout(std430, binding = 0) readonly buffer Input { sfloat src[]; };  // C x Hc x Wc, no border
 layout(std430, binding = 1) writeonly buffer Output { float dst[]; };
 
-layout(push_constant) uniform Params {
-  uint channels;
-  uint cells;
-} p;
+#include "push/l2norm.h"
 
 void main() {
   const uint cell = gl_GlobalInvocationID.x;

@@ -10,10 +10,7 @@ layout(std430, binding = 0) readonly buffer Candidates { uvec2 candidates[]; }; 
 layout(std430, binding = 1) readonly buffer Counter { uint candidate_count; };
 layout(std430, binding = 2) writeonly buffer Order { uint order[]; };
 
-layout(push_constant) uniform Params {
-  uint capacity;
-  uint max_keypoints;
-} p;
+#include "push/rank.h"
 
 shared uvec2 tile[64];
 

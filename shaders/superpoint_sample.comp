@@ -13,13 +13,7 @@ layout(std430, binding = 4) writeonly buffer Keypoints { vec2 keypoints[]; };
 layout(std430, binding = 5) writeonly buffer Scores { float out_scores[]; };
 layout(std430, binding = 6) writeonly buffer Descriptors { float descriptors[]; };  // k x D
 
-layout(push_constant) uniform Params {
-  uint cells_h;
-  uint cells_w;
-  uint dim;
-  uint capacity;
-  uint max_keypoints;
-} p;
+#include "push/sample.h"
 
 shared float partial[64];
 

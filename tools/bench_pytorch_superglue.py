@@ -8,7 +8,7 @@ Prints the median seconds per size.
 Each inference allocates its activations afresh; where page faults are costly (some VMs) that, not the
 arithmetic, sets the time. To time PyTorch at its best, run it with an allocator that keeps its memory:
     LD_PRELOAD=/usr/lib/x86_64-linux-gnu/libjemalloc.so.2 MALLOC_CONF=retain:true,dirty_decay_ms:-1,muzzy_decay_ms:-1
-(package libjemalloc2; README, Performance, has both figures).
+(package libjemalloc2; docs/performance.md has both figures).
 """
 import argparse
 import statistics

@@ -2,15 +2,18 @@
 # README command 1: installs the dependencies, builds vkvo and runs the main job on the default sample:
 # a synthetic 752x480 stereo sequence with the lights switched off and on again in the middle, the VO on it, and
 # the evaluation against its ground truth (ATE, timing table, trajectory plot).
-# DEMO_FRAMES (default 60: a minute or two on lavapipe, where SuperPoint takes about 0.5 s a frame on two cores;
-# use 200 on a GPU for the full 10 s preset).
+# DEMO_FRAMES (default 60: short enough on lavapipe, where SuperPoint is the slow part, docs/performance.md; use
+# 200 on a GPU for the full 10 s preset).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
 BUILD_DIR=${BUILD_DIR:-build}
 OUT=${OUT:-out/demo}
 cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build "$BUILD_DIR" -j"$(nproc)"
+# The CLI alone (the libraries and shaders it links), not the test suites and benchmarks tools/test.sh builds:
+# a fresh machine's first demo is mostly this build (docs/demo.md). The build folder stays shared with
+# tools/test.sh, whose build then adds the rest.
+cmake --build "$BUILD_DIR" -j"$(nproc)" --target vkvo_cli
 VKVO="$BUILD_DIR/bin/vkvo"
 
 "$VKVO" devices

@@ -12,9 +12,12 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 FRAMES=${1:-200}
 OUT=${OUT:-out/device}
-KIT=/tmp/vkvo-kit
-WORK=/tmp/vkvo-check  # the rendered sequence and the run's outputs, which need not come back
-rm -rf "$KIT" "$WORK"
+# The unpacked kit, the rendered sequence and the run's outputs, which need not come back: a fresh temporary
+# folder ($TMPDIR or the system's), removed on exit.
+SCRATCH=$(mktemp -d -t vkvo-check.XXXXXX) || { echo "device_check: cannot make a temporary folder"; exit 1; }
+trap 'rm -rf "$SCRATCH"' EXIT
+KIT=$SCRATCH/kit
+WORK=$SCRATCH/work
 mkdir -p "$OUT" "$KIT" "$WORK"
 [ -f .devkit/kit.tar.xz ] || { echo "device_check: no .devkit/kit.tar.xz (tools/device_kit.sh)"; exit 1; }
 # Python's lzma where tar has no xz to call.

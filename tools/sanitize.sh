@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds vkvo with sanitizers in a build folder of its own and runs ctest there (README, "Sanitizers").
+# Builds vkvo with sanitizers in a build folder of its own and runs ctest there (docs/testing.md, "Sanitizers").
 #   tools/sanitize.sh address [ctest arguments]   AddressSanitizer + UndefinedBehaviorSanitizer + leaks; all tests
 #   tools/sanitize.sh thread  [ctest arguments]   ThreadSanitizer; the tests of the VO's threads (see below)
 # Any report fails the test that made it. BUILD_DIR overrides the folder (build-asan, build-tsan).

@@ -18,6 +18,10 @@ packages=(
   libcli11-dev libspdlog-dev libfmt-dev libyaml-cpp-dev nlohmann-json3-dev
   # ONNX reading (converter)
   libonnx-dev libprotobuf-dev protobuf-compiler
+  # the Python module (pybind11, for Debian's python3 and numpy) and its pytest suites
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  # the C++ style check (tools/format.sh)
+  clang-format
 )
 
 missing=()

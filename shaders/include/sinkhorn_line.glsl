@@ -3,13 +3,12 @@
 // per half-iteration) and superglue_sinkhorn_fused.comp (all iterations in one workgroup);
 // superglue_sinkhorn_lines.comp takes the marginal.
 //
-// Defines before inclusion: SINKHORN_OTHER(e), texel e (4 entries) of the other axis' potential.
+// Define before inclusion: SINKHORN_OTHER(e), texel e (4 entries) of the other axis' potential.
 //
 // Lines are padded to whole texels with -1e30 (exp gives 0, the maximum ignores them) and the potentials with
 // zeros. One pass over the line: a running maximum and the sum of exponentials relative to it, rescaled once per
-// block of 4 texels when the maximum grows. Two passes (maximum, then sum) fetched every texel twice, and on
-// lavapipe each fetch of the line is a gather of 8 lanes' rows that misses the cache (N = 1000: 0.2-0.4 s of
-// SuperGlue).
+// block of 4 texels when the maximum grows. Two passes (maximum, then sum) would fetch every texel twice, and on
+// lavapipe each fetch of the line is a gather of 8 lanes' rows that misses the cache.
 #include "texel_buffer.glsl"
 #extension GL_EXT_control_flow_attributes : require
 

@@ -1,19 +1,15 @@
 // Winograd F(m x m, 3x3) input transform (m = WINOGRAD_TILE: winograd_tiles.glsl), shared by the transform of an
-// activation (winograd_input_activation.glsl) and the one whose window is computed from an image by a 1-channel
-// 3x3 convolution (winograd_input_stem.glsl). Each invocation takes the (m + 2) x (m + 2) window of one tile in
+// activation (winograd_input.comp) and the one whose window is computed from an image by a 1-channel
+// 3x3 convolution (winograd_input_stem.comp). Each invocation takes the (m + 2) x (m + 2) window of one tile in
 // kChannels channels (kBlocks blocks of 4) and writes its (m + 2)^2 transformed values, V[point][tile][channel],
 // so that the GEMM of each point reads a tile's channels as whole texels (A, M = tiles x K = channels).
 // Consecutive invocations take consecutive channel blocks of a tile, so that neighbouring lanes store
-// neighbouring addresses: with lanes walking tiles instead (256 bytes apart at 64 channels) SuperPoint 640x480
-// took 1.42 s instead of 1.14 s on lavapipe (F(4x4, 3x3), one run each).
+// neighbouring addresses (lanes walking tiles store 256 bytes apart at 64 channels).
 //
 // The wide form (WINOGRAD_WIDE 1, 8 channels, where the device has shaderInt64 and the channels are a multiple of
 // 8) stores each point's 8 values as one u64vec4. Stores bound this kernel on lavapipe: it writes a storage buffer
-// lane by lane in a loop (its JIT code under perf and gdb: about 70 instructions per lane per vec4 store, most of
-// the transform's instructions), and in a micro-benchmark of this store pattern a 32-byte u64vec4 store ran 2-5x
-// faster than a vec4 store of the same lanes on Mesa 22.3 and 2x on 25.0 (a u64vec2 store: no faster than vec4).
-// SuperPoint's input transforms took half the time (640x480, alternating runs: conv1b's with conv1a 61-77 ->
-// 37-54 ms, conv2a's 15-22 -> 8-14 ms); on Mesa 25.0, whose stores cost less, 20-25 % less.
+// lane by lane in a loop (about 70 instructions per lane per vec4 store in its JIT code), and a 32-byte store
+// costs about what a 16-byte one does (docs/performance-history.md, "SuperPoint").
 //
 // Tile (ty, tx) covers output rows m ty .. m ty + m - 1 and columns m tx .. m tx + m - 1; its window is rows
 // m ty - 1 .. m ty + m and columns m tx - 1 .. m tx + m of the convolution's input (padded rows and columns
@@ -42,14 +38,7 @@ layout(std430, binding = TRANSFORMED_BINDING) writeonly buffer Transformed { sve
 #endif
 const uint kChannels = 4 * kBlocks;  // per invocation
 
-layout(push_constant) uniform Params {
-  uint channels;  // of the transformed tensor, a multiple of kChannels
-  uint height;    // of the image
-  uint width;
-  uint tiles_x;
-  uint tiles;           // of this band
-  uint first_tile_row;  // of this band
-} p;
+#include "push/winograd_input.h"
 
 #define TileBlock WinogradTileBlock
 

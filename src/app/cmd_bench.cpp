@@ -8,6 +8,7 @@
 
 #include "app/bench_registry.hpp"
 #include "app/command.hpp"
+#include "app/device_options.hpp"
 #include "app/kernel_bench.hpp"
 #include "runtime/context.hpp"
 #include "runtime/host.hpp"
@@ -17,7 +18,7 @@ namespace {
 struct Options {
   int repeat = 10;
   std::vector<std::string> precisions;
-  std::string device;
+  vkvo::app::DeviceSelection device;
   std::string model;
   bool kernels = false;
   std::string filter;
@@ -29,18 +30,14 @@ struct Options {
 };
 
 int run(const Options& options) {
-  vkvo::rt::ContextOptions context_options;
-  context_options.device = options.device;
-  const vkvo::rt::Context context(context_options);
+  const vkvo::rt::Context context(options.device.context_options());
   const auto& caps = context.caps();
   fmt::print("device: {} ({}), {}\n", caps.name, caps.type, caps.driver);
   // A CPU device's figures are the host's (runtime/host.hpp); a GPU's still include its uploads and submissions.
   fmt::print("host: {}\n", vkvo::rt::host_cpu().describe());
   std::vector<vkvo::rt::Precision> precisions;
   for (const auto& name : options.precisions) {
-    const auto p = vkvo::rt::parse_precision(name);
-    if (!p) throw std::runtime_error(fmt::format("unknown precision '{}' (fp32, fp16s, fp16)", name));
-    precisions.push_back(*p);
+    precisions.push_back(*vkvo::rt::parse_precision(name));  // CLI11 has checked the name
   }
   if (precisions.empty())
     for (auto p : vkvo::rt::kAllPrecisions)
@@ -70,8 +67,8 @@ vkvo::app::CommandRegistration registration{
     {"bench", "time the compute kernels on the chosen device (median ms, GFLOP/s)", [](CLI::App& sub) {
        auto options = std::make_shared<Options>();
        sub.add_option("--repeat", options->repeat, "timed submissions per kernel")->check(CLI::PositiveNumber);
-       sub.add_option("--precision", options->precisions, "fp32, fp16s and/or fp16 (default: all supported)");
-       sub.add_option("--device", options->device, "device index or name substring (default: $VKVO_DEVICE or best)");
+       vkvo::app::add_precision_list_option(sub, options->precisions);
+       vkvo::app::add_device_option(sub, options->device);
        sub.add_option("--model", options->model, "model pack for the network benchmarks");
        sub.add_flag("--kernels", options->kernels, "the single-kernel table (default when no network is named)");
        sub.add_option("--winograd", options->winograd, "SuperPoint's 3x3 convolutions by Winograd F(m x m, 3x3)")

@@ -37,7 +37,7 @@ int list_all() {
     std::string precisions;
     for (auto p : vkvo::rt::kAllPrecisions)
       if (d.supports(p)) precisions += fmt::format(" {}", vkvo::rt::to_string(p));
-    fmt::print("    precisions:{} (default {})\n", precisions, vkvo::rt::to_string(d.preferred_precision()));
+    fmt::print("    precisions:{} (default {})\n", precisions, vkvo::rt::to_string(vkvo::rt::make_device_profile(d).precision));
   }
   fmt::print("select with VKVO_DEVICE=<index|name substring>\n");
   return 0;

@@ -1,4 +1,5 @@
 // `vkvo eval`: compares an estimated trajectory with ground truth (ATE, RPE, drift), optional plot and JSON.
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
@@ -29,6 +30,7 @@ struct EvalCommandOptions {
   std::string kitti_times;
   std::vector<double> rpe_lengths;
   std::size_t rpe_step = 1;
+  std::string frames;  // frames.csv of the run (default: beside the estimate, when there)
 };
 
 // The command line's names of the ground-truth choices. CLI11 checks the option against the names (its message
@@ -59,24 +61,32 @@ int run_eval(const EvalCommandOptions& opts) {
   }
   if (!opts.kitti_times.empty()) gt_options.kitti_times = opts.kitti_times;
   gt_options.orientation = kOrientationNames.at(opts.gt_orientation);
-  const io::GroundTruth gt = io::read_groundtruth(opts.groundtruth, gt_options);
-
-  std::vector<double> estimate_times;  // a KITTI-format estimate shares the ground truth's clock
-  if (!opts.kitti_times.empty()) estimate_times = io::read_kitti_times(opts.kitti_times);
-  const io::TrajectoryFormat estimate_format = io::detect_trajectory_format(opts.estimate);
-  const io::Trajectory estimate = io::read_trajectory(opts.estimate, estimate_format, estimate_times);
-
   eval::EvalOptions options;
   options.alignment = eval::parse_alignment_mode(opts.align);
   options.max_dt_s = opts.max_dt;
   options.rpe.lengths_m = opts.rpe_lengths;
   options.rpe.step = opts.rpe_step;
-  options.positions_only = !gt.has_orientation || estimate_format == io::TrajectoryFormat::positions;
-  const eval::EvaluationResult result = eval::evaluate(estimate, gt.poses, options);
+  const eval::FileEvaluation evaluation =
+      eval::evaluate_files(opts.estimate, opts.groundtruth, gt_options, options,
+                           opts.frames.empty() ? std::nullopt : std::optional<std::filesystem::path>(opts.frames));
+  const io::GroundTruth& gt = evaluation.groundtruth;
+  const eval::EvaluationResult& result = evaluation.result;
 
   fmt::print("estimate:     {}\nground truth: {} ({}; {} frame)\n\n", opts.estimate, opts.groundtruth, gt.note,
              gt.frame == io::PoseFrame::body ? "body" : "camera");
   fmt::print("{}", eval::format_table(result));
+
+  if (const auto& by_state = evaluation.by_state) {
+    const auto row = [](const char* what, const eval::ErrorStats& s) {
+      return s.count ? fmt::format("  {:<22} {:>6} {:>10.4f} {:>10.4f}\n", what, s.count, s.rmse, s.max)
+                     : fmt::format("  {:<22} {:>6} {:>10} {:>10}\n", what, 0, "-", "-");
+    };
+    fmt::print("\nby frame state ({}; aligned on the tracked and relocalised poses):\n  {:<22} {:>6} {:>10} {:>10}\n"
+               "{}{}{}",
+               evaluation.frames_file->string(), "", "poses", "RMSE m", "max m",
+               row("tracked + relocalised", by_state->measured), row("bridged (gap)", by_state->bridged),
+               row("lost (predicted)", by_state->lost));
+  }
 
   if (!opts.plot.empty()) {
     eval::PlotOptions plot;
@@ -86,14 +96,7 @@ int run_eval(const EvalCommandOptions& opts) {
     spdlog::info("plot written to {}", opts.plot);
   }
   if (!opts.json.empty()) {
-    nlohmann::json document = eval::to_json(result);
-    document["estimate"] = opts.estimate;
-    document["groundtruth"] = {{"path", opts.groundtruth},
-                               {"format", io::to_string(gt.format)},
-                               {"frame", gt.frame == io::PoseFrame::body ? "body" : "camera"},
-                               {"body_to_camera_applied", gt.body_to_camera_applied},
-                               {"note", gt.note}};
-    io::write_json_file(opts.json, document);
+    io::write_json_file(opts.json, eval::to_json(evaluation));
     spdlog::info("report written to {}", opts.json);
   }
   return 0;
@@ -134,6 +137,9 @@ vkvo::app::CommandRegistration registration{
            ->check(CLI::ExistingFile);
        sub.add_option("--rpe-lengths", opts->rpe_lengths,
                       "RPE segment lengths in metres (default: 10,20,..,50 % of the path length)");
+       sub.add_option("--frames", opts->frames,
+                      "the run's frames.csv: errors also per frame state (default: frames.csv beside the estimate)")
+           ->check(CLI::ExistingFile);
        sub.add_option("--rpe-step", opts->rpe_step, "start an RPE segment every N poses")->capture_default_str();
        return std::function<int()>([opts] { return run_eval(*opts); });
      }}};

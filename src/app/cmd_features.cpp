@@ -1,5 +1,5 @@
 // `vkvo features`: SuperPoint on one image on the Vulkan device; writes the outputs as .npy in the layout of
-// /work/shared/golden/superpoint/*:
+// the golden outputs ($VKVO_DATA/golden/superpoint/*):
 //   vkvo features --model superpoint.vkvopack --image IMG.png --out DIR [--precision fp16s] [--dense] [--config C]
 // keypoints.npy (N x 2 float32 x,y), scores.npy (N), descriptors.npy (N x 256); with --dense also
 // dense_scores.npy (H8 x W8) and dense_descriptors.npy (256 x H/8 x W/8).
@@ -14,6 +14,7 @@
 #include <spdlog/spdlog.h>
 
 #include "app/command.hpp"
+#include "app/device_options.hpp"
 #include "features/superpoint.hpp"
 #include "io/config.hpp"
 #include "io/model_pack.hpp"
@@ -26,7 +27,8 @@ namespace fs = std::filesystem;
 using namespace vkvo;
 
 struct FeaturesOptions {
-  std::string model, image, out, precision, config, device;
+  std::string model, image, out, config;
+  app::DeviceSelection device;
   bool dense = false;
 };
 
@@ -47,16 +49,10 @@ int run_features(const FeaturesOptions& o) {
   const io::KeyReadLog key_log;
   features::SuperPointParams params = features::load_superpoint_params(config.section("point_detector"));
   key_log.require_all_read(config.section("point_detector"), "point_detector", config.origin());
-  if (!o.precision.empty() && o.precision != "auto") {
-    const auto p = rt::parse_precision(o.precision);
-    if (!p) throw std::runtime_error(fmt::format("unknown precision '{}' (auto, fp32, fp16s, fp16)", o.precision));
-    params.precision = *p;
-  }
+  if (const auto precision = o.device.chosen_precision()) params.precision = *precision;
   const cv::Mat image = read_gray(o.image);
   const io::ModelPack pack = io::ModelPack::load(o.model, io::NetworkKind::superpoint);
-  rt::ContextOptions context_options;
-  context_options.device = o.device;
-  const rt::Context context(context_options);
+  const rt::Context context(o.device.context_options());
   features::SuperPoint superpoint(context, pack, params);
 
   features::SuperPointDense dense;
@@ -92,9 +88,9 @@ app::CommandRegistration registration{
        sub.add_option("--model", o->model, "SuperPoint model pack (vkvo convert)")->required();
        sub.add_option("--image", o->image, "input image (converted to grayscale)")->required();
        sub.add_option("--out", o->out, "output folder")->required();
-       sub.add_option("--precision", o->precision, "auto (default), fp32, fp16s or fp16");
+       app::add_precision_option(sub, o->device);
        sub.add_option("--config", o->config, "YAML config; its point_detector section sets the parameters");
-       sub.add_option("--device", o->device, "device index or name substring");
+       app::add_device_option(sub, o->device);
        sub.add_flag("--dense", o->dense, "also write dense_scores.npy and dense_descriptors.npy");
        return std::function<int()>([o] { return run_features(*o); });
      }}};

@@ -15,6 +15,7 @@
 #include <spdlog/spdlog.h>
 
 #include "app/command.hpp"
+#include "app/device_options.hpp"
 #include "features/nn_matcher.hpp"
 #include "features/superglue.hpp"
 #include "io/config.hpp"
@@ -27,7 +28,8 @@ namespace fs = std::filesystem;
 using namespace vkvo;
 
 struct MatchOptions {
-  std::string model, features0, features1, image_size, out, device, precision, config;
+  std::string model, features0, features1, image_size, out, config;
+  app::DeviceSelection device;
   float threshold = -1;
   bool dense = false;
 };
@@ -67,9 +69,7 @@ int run(const MatchOptions& o) {
   const auto [width, height] = parse_size(o.image_size);
   const auto a = read_features(o.features0, width, height);
   const auto b = read_features(o.features1, width, height);
-  rt::ContextOptions context_options;
-  context_options.device = o.device;
-  const rt::Context context(context_options);
+  const rt::Context context(o.device.context_options());
   YAML::Node config;
   if (!o.config.empty()) config = io::load_yaml_file(o.config);
 
@@ -82,10 +82,7 @@ int run(const MatchOptions& o) {
   } else {
     auto params = features::load_superglue_params(config["point_matcher"]);
     if (o.threshold >= 0) params.match_threshold = o.threshold;
-    if (!o.precision.empty()) {
-      params.precision = rt::parse_precision(o.precision);
-      if (!params.precision) throw std::runtime_error("--precision: expected fp32, fp16s or fp16");
-    }
+    if (const auto precision = o.device.chosen_precision()) params.precision = precision;
     const auto pack = io::ModelPack::load(o.model, io::NetworkKind::superglue);
     features::SuperGlue superglue(context, pack, params);
     spdlog::info("SuperGlue: {} layers, precision {}", superglue.config().cross_layers.size(),
@@ -122,8 +119,8 @@ vkvo::app::CommandRegistration registration{
        sub.add_flag("--dense", o->dense, "also write log_assignment.npy (SuperGlue)");
        sub.add_option("--config", o->config, "YAML with point_matcher / nn_matcher sections");
        sub.add_option("--threshold", o->threshold, "SuperGlue match threshold (default 0.2 or the config's)");
-       sub.add_option("--precision", o->precision, "fp32, fp16s or fp16 (default: the device's preferred)");
-       sub.add_option("--device", o->device, "device index or name substring");
+       app::add_precision_option(sub, o->device);
+       app::add_device_option(sub, o->device);
        return std::function<int()>([o] { return run(*o); });
      }}};
 

@@ -5,18 +5,16 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "app/command.hpp"
-#include "eval/evaluate.hpp"
+#include "app/device_options.hpp"
+#include "app/vo_frontends.hpp"
 #include "io/dataset.hpp"
-#include "io/trajectory.hpp"
-#include "runtime/host.hpp"
-#include "system/network_frontend.hpp"
 #include "system/pipeline.hpp"
-#include "tools/convert/model_locator.hpp"
 
 namespace {
 
@@ -32,22 +30,25 @@ struct Options {
   fs::path model, superglue;
   std::optional<std::size_t> first, stride;  // unset: the config's dataset section (or the whole sequence)
   std::optional<long long> last;
+  std::vector<std::string> skip;
   bool realtime = false;
-  std::string precision;
+  vkvo::app::DeviceSelection device;
+  fs::path feature_cache;
 };
 
 int run(const Options& o) {
   vkvo::system::VoConfig config = vkvo::system::load_vo_config(o.config);
   if (o.no_lines) config.tracking.use_lines = false;
   if (!o.matcher.empty()) config.matcher = o.matcher;
-  if (!o.precision.empty()) {  // auto (the device's preferred precision) or one that CLI11 has checked
-    config.point_detector.precision = vkvo::rt::parse_precision(o.precision);
-    config.point_matcher.precision = config.point_detector.precision;
+  if (const auto precision = o.device.chosen_precision()) {
+    config.point_detector.precision = precision;
+    config.point_matcher.precision = precision;
   }
 
   vkvo::io::DatasetOptions dataset_options = config.dataset;
   if (o.first) dataset_options.range.first = *o.first;
   if (o.stride) dataset_options.range.stride = *o.stride;
+  for (const std::string& span : o.skip) dataset_options.range.skip.push_back(vkvo::io::parse_frame_span(span));
   if (o.last) {
     if (*o.last >= 0) dataset_options.range.last = static_cast<std::size_t>(*o.last);
     else dataset_options.range.last.reset();
@@ -56,59 +57,43 @@ int run(const Options& o) {
   spdlog::info("dataset {} ({}): {} stereo frames", dataset->name(), vkvo::io::to_string(dataset->kind()),
                dataset->size());
 
-  const auto model_search = vkvo::convert::default_model_search(VKVO_SOURCE_DIR);
-  const auto superpoint = vkvo::convert::locate_model(
-      "superpoint_v1", o.model.empty() ? config.superpoint_model : o.model, model_search);
-  if (!superpoint) throw std::runtime_error(vkvo::convert::superpoint_help());
-  spdlog::info("SuperPoint: {} [{}]", superpoint->pack.string(), superpoint->how);
-  const auto superpoint_pack = vkvo::io::ModelPack::load(superpoint->pack, vkvo::io::NetworkKind::superpoint);
-  std::optional<vkvo::io::ModelPack> superglue_pack;
-  if (config.matcher == "superglue") {
-    const fs::path explicit_superglue = o.superglue.empty() ? config.superglue_model : o.superglue;
-    if (!explicit_superglue.empty()) {
-      const auto superglue = vkvo::convert::locate_model("superglue", explicit_superglue, model_search);
-      superglue_pack = vkvo::io::ModelPack::load(superglue->pack, vkvo::io::NetworkKind::superglue);
-      spdlog::info("SuperGlue: {} [{}]", superglue->pack.string(), superglue->how);
-    } else {
-      spdlog::warn("no SuperGlue pack configured (models.superglue / --superglue): matching with the "
-                   "mutual-nearest-neighbour matcher");
-    }
-  }
-
-  const vkvo::rt::Context context;
-  const std::string host = vkvo::rt::host_cpu().describe();
-  spdlog::info("Vulkan device: {} ({}); host: {}", context.caps().name, context.caps().type, host);
-  const auto* superglue = superglue_pack ? &*superglue_pack : nullptr;
-  auto feature_frontend = vkvo::system::make_network_frontend(context, superpoint_pack, superglue, config);
-  auto stereo_frontend = vkvo::system::make_network_frontend(context, superpoint_pack, superglue, config);
+  vkvo::app::FrontendOptions frontend_options{
+      .superpoint = o.model, .superglue = o.superglue, .device = o.device.context_options()};
+  if (!o.feature_cache.empty()) frontend_options.feature_cache = o.feature_cache;
+  vkvo::app::VoFrontends frontends(config, frontend_options);
 
   std::signal(SIGINT, [](int) { g_stop = true; });
   vkvo::system::RunOptions run_options;
   run_options.output_dir = o.out;
   run_options.realtime = o.realtime;
   run_options.stop = &g_stop;
-  run_options.extra_summary = {{"device", context.caps().name},
-                               {"host", host},
-                               {"matcher", superglue ? "superglue" : "nn"},
-                               {"superpoint_model", superpoint->pack.string()}};
-  const auto result = vkvo::system::run_vo(*dataset, config, *feature_frontend, *stereo_frontend, run_options);
+  run_options.extra_summary = frontends.description();
+  const auto result = vkvo::system::run_vo(*dataset, config, frontends.feature(), frontends.stereo(), run_options);
+  if (const auto& cache = frontends.cache())
+    spdlog::info("feature cache {}: {} image(s) came from it", cache->folder() ? cache->folder()->string() : "(memory)",
+                 cache->hits());
 
-  fmt::print("\n{} frames ({} skipped), {} keyframes, {} tracking losses, {} map segment(s), map: {} points, {} lines\n",
-             result.frames, result.frames_skipped, result.keyframes, result.tracking_losses, result.segments,
-             result.map_points, result.map_lines);
+  fmt::print("\n{} frames ({} skipped), {} keyframes, {} tracking losses, {} relocalisation(s), {} map segment(s) "
+             "at the end ({} started, {} merged), map: {} points, {} lines\n",
+             result.frames, result.frames_skipped, result.keyframes, result.tracking_losses, result.relocalisations,
+             result.segments, result.segments_started, result.merges, result.map_points, result.map_lines);
   fmt::print("{}", result.timing.table(result.frames, result.wall_seconds));
-  fmt::print("trajectory: {}\nkeyframes:  {}\nsummary:    {}\nmap:        {}\n", result.trajectory.string(),
-             result.keyframes_file.string(), result.summary.string(), (o.out / "map.ply").string());
-  if (const auto gt = vkvo::io::read_dataset_groundtruth(*dataset)) {
-    try {
-      vkvo::eval::EvalOptions eval_options;
-      eval_options.positions_only = !gt->has_orientation;
-      const auto evaluation = vkvo::eval::evaluate(vkvo::io::read_tum(result.trajectory), gt->poses, eval_options);
-      fmt::print("ATE RMSE {:.4f} m (SE3 alignment, {} poses) against {}\n", evaluation.ate.translation_m.rmse,
-                 evaluation.associated_poses, dataset->groundtruth_path()->string());
-    } catch (const std::exception& e) {
-      spdlog::warn("evaluation skipped: {}", e.what());
-    }
+  fmt::print("trajectory: {}\nframes:     {}\nkeyframes:  {} (refined: {})\nsummary:    {}\nmap:        {}\n",
+             result.trajectory.string(), result.frames_file.string(), result.keyframes_file.string(),
+             result.keyframes_refined_file.string(), result.summary.string(), (o.out / "map.ply").string());
+  if (const auto& e = result.evaluation; !e.is_null()) {
+    const auto rmse = [&](const char* key, const char* stats) -> std::string {
+      if (!e.contains(key)) return "n/a";
+      const auto& s = e[key][stats];
+      return s["count"].get<std::size_t>() ? fmt::format("{:.4f} m ({} poses)", s["rmse"].get<double>(),
+                                                        s["count"].get<std::size_t>())
+                                           : std::string("none");
+    };
+    fmt::print("ATE RMSE against {} (SE3 alignment):\n  every frame      {}\n  tracked frames   {}\n"
+               "  bridged frames   {}\n  refined keyframes {}\n",
+               e["groundtruth"].get<std::string>(), rmse("trajectory", "ate_translation_m"),
+               rmse("trajectory_by_state", "measured_translation_m"), rmse("trajectory_by_state", "bridged_translation_m"),
+               rmse("keyframes_refined", "ate_translation_m"));
   }
   return g_stop ? 130 : 0;
 }
@@ -127,10 +112,14 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--superglue", o->superglue, "SuperGlue pack or ONNX (default: config models.superglue)");
        sub.add_option("--first", o->first, "first frame index (overrides the config's dataset.first_frame)");
        sub.add_option("--last", o->last, "last frame index, inclusive; -1: to the end (dataset.last_frame)");
+       sub.add_option("--skip", o->skip, "leave out frames A-B of the sequence (repeatable; dataset.skip)");
        sub.add_option("--stride", o->stride, "use every n-th frame (dataset.stride)")->check(CLI::PositiveNumber);
        sub.add_flag("--realtime", o->realtime, "play the sequence back at its recorded rate");
-       sub.add_option("--precision", o->precision, "network precision: auto | fp32 | fp16s | fp16")
-           ->check(CLI::IsMember({"auto", "fp32", "fp16s", "fp16"}));
+       sub.add_option("--feature-cache", o->feature_cache,
+                      "keep SuperPoint's features of every image in this folder and reuse them in later runs "
+                      "(the same weights, detector settings and device)");
+       vkvo::app::add_precision_option(sub, o->device);
+       vkvo::app::add_device_option(sub, o->device);
        return std::function<int()>([o] { return run(*o); });
      }}};
 

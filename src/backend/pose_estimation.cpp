@@ -42,9 +42,11 @@ int classify(std::vector<Residual>& residuals, PoseBlock& pose, std::vector<bool
   return count;
 }
 
-// PnP-RANSAC on the point matches (left pixels); nullopt when OpenCV finds no model.
-std::optional<Eigen::Isometry3d> pnp_ransac(const geometry::PinholeCamera& camera,
-                                            const std::vector<PointMatch>& points, const OptimizationParams& params) {
+}  // namespace
+
+std::optional<PnpSolution> solve_pnp_ransac(const geometry::PinholeCamera& camera, const std::vector<PointMatch>& points,
+                                            const OptimizationParams& params, int iterations) {
+  if (points.size() < 4) return std::nullopt;
   std::vector<cv::Point3d> object;
   std::vector<cv::Point2d> image;
   for (const auto& p : points) {
@@ -53,9 +55,10 @@ std::optional<Eigen::Isometry3d> pnp_ransac(const geometry::PinholeCamera& camer
   }
   const cv::Mat K = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   cv::Mat rvec, tvec;
+  std::vector<int> inlier_indices;
   const double threshold_px = params.pixel_sigma * std::sqrt(params.mono_point_chi2);
-  if (!cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, params.pnp_iterations,
-                          static_cast<float>(threshold_px), params.pnp_confidence, cv::noArray(), cv::SOLVEPNP_EPNP))
+  if (!cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, iterations,
+                          static_cast<float>(threshold_px), params.pnp_confidence, inlier_indices, cv::SOLVEPNP_EPNP))
     return std::nullopt;
   cv::Mat R;
   cv::Rodrigues(rvec, R);
@@ -64,10 +67,13 @@ std::optional<Eigen::Isometry3d> pnp_ransac(const geometry::PinholeCamera& camer
     for (int c = 0; c < 3; ++c) T_cw.linear()(r, c) = R.at<double>(r, c);
     T_cw.translation()[r] = tvec.at<double>(r);
   }
-  return T_cw.inverse();
+  PnpSolution solution;
+  solution.T_world_camera = T_cw.inverse();
+  solution.inliers.assign(points.size(), false);
+  for (int i : inlier_indices) solution.inliers[static_cast<std::size_t>(i)] = true;
+  solution.num_inliers = static_cast<int>(inlier_indices.size());
+  return solution;
 }
-
-}  // namespace
 
 PoseEstimate estimate_pose(const geometry::StereoCamera& stereo, const Eigen::Isometry3d& T_world_camera_prior,
                            const std::vector<PointMatch>& points, const std::vector<LineMatch>& lines,
@@ -98,8 +104,8 @@ PoseEstimate estimate_pose(const geometry::StereoCamera& stereo, const Eigen::Is
   int prior_inliers = classify(point_res, pose, out.point_inliers);
   if (static_cast<int>(points.size()) >= params.pnp_min_points &&
       prior_inliers < params.pnp_prior_min_inlier_ratio * static_cast<double>(points.size())) {
-    if (const auto T = pnp_ransac(stereo.camera, points, params)) {
-      PoseBlock candidate = PoseBlock::from_T_world_camera(*T);
+    if (const auto pnp = solve_pnp_ransac(stereo.camera, points, params, params.pnp_iterations)) {
+      PoseBlock candidate = PoseBlock::from_T_world_camera(pnp->T_world_camera);
       std::vector<bool> flags;
       if (classify(point_res, candidate, flags) > prior_inliers) {
         pose = candidate;

@@ -2,6 +2,7 @@
 // Initial pose estimation (IPE): motion-only optimisation of the current frame against matched map points and map
 // lines (Ceres, Huber losses), with iterative outlier rejection and a PnP-RANSAC start when the motion prior
 // disagrees with the matches.
+#include <optional>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -32,6 +33,17 @@ struct PoseEstimate {
   bool used_pnp = false;  // the PnP-RANSAC pose replaced the prior as the start
   bool success = false;   // num_point_inliers + num_line_inliers >= min_pose_inliers
 };
+
+// PnP + RANSAC on the point matches' left pixels (OpenCV, EPnP minimal sets), with a reprojection threshold of
+// pixel_sigma * sqrt(mono_point_chi2) pixels.
+struct PnpSolution {
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
+  std::vector<bool> inliers;  // per PointMatch
+  int num_inliers = 0;
+};
+// nullopt when there are fewer than 4 matches or RANSAC finds no model.
+std::optional<PnpSolution> solve_pnp_ransac(const geometry::PinholeCamera& camera, const std::vector<PointMatch>& points,
+                                            const OptimizationParams& params, int iterations);
 
 PoseEstimate estimate_pose(const geometry::StereoCamera& stereo, const Eigen::Isometry3d& T_world_camera_prior,
                            const std::vector<PointMatch>& points, const std::vector<LineMatch>& lines,

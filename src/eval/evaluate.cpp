@@ -1,6 +1,8 @@
 #include "eval/evaluate.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -59,6 +61,70 @@ EvaluationResult evaluate(const io::Trajectory& estimate, const io::Trajectory& 
   result.aligned_estimate_positions = positions(aligned);
   result.groundtruth_positions = positions(poses.groundtruth);
   return result;
+}
+
+StateEvaluation evaluate_by_state(const io::Trajectory& estimate, const std::vector<io::FrameStatus>& status,
+                                  const io::Trajectory& groundtruth, const EvalOptions& options) {
+  // A TUM timestamp (a double of seconds since the epoch) keeps about 0.2 us: match the nearest line within 1 ms.
+  std::map<std::int64_t, const io::FrameStatus*> by_time;
+  for (const auto& s : status) by_time[s.timestamp_ns] = &s;
+  const auto status_at = [&](double t) -> const io::FrameStatus* {
+    const auto t_ns = static_cast<std::int64_t>(std::llround(t * 1e9));
+    const auto after = by_time.lower_bound(t_ns);
+    const io::FrameStatus* best = nullptr;
+    std::int64_t best_dt = 1'000'000;
+    const auto consider = [&](auto it) {
+      if (const std::int64_t dt = std::llabs(it->first - t_ns); dt <= best_dt) best = it->second, best_dt = dt;
+    };
+    if (after != by_time.end()) consider(after);
+    if (after != by_time.begin()) consider(std::prev(after));
+    return best;
+  };
+  const AssociatedPoses poses = associate(estimate, groundtruth, options.max_dt_s);
+  StateEvaluation result;
+  AssociatedPoses measured;
+  std::vector<std::string> states(poses.size());
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const io::FrameStatus* line = status_at(poses.t[i]);
+    if (!line) {
+      ++result.without_status;
+      continue;
+    }
+    states[i] = line->state;
+    if (states[i] == "tracked" || states[i] == "relocalised") {
+      measured.t.push_back(poses.t[i]);
+      measured.estimate.push_back(poses.estimate[i]);
+      measured.groundtruth.push_back(poses.groundtruth[i]);
+    }
+  }
+  if (measured.size() < 3)
+    throw std::runtime_error(fmt::format("only {} tracked or relocalised poses associate with the ground truth",
+                                         measured.size()));
+  const Similarity alignment = compute_ate(measured, options.alignment, true).alignment;
+  std::vector<double> measured_errors, bridged_errors, lost_errors;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const double error = (alignment.apply(Eigen::Vector3d(poses.estimate[i].translation())) -
+                          poses.groundtruth[i].translation())
+                             .norm();
+    if (states[i] == "tracked" || states[i] == "relocalised")
+      measured_errors.push_back(error);
+    else if (states[i] == "bridged")
+      bridged_errors.push_back(error);
+    else if (states[i] == "lost")
+      lost_errors.push_back(error);
+  }
+  result.measured = compute_stats(measured_errors);
+  result.bridged = compute_stats(bridged_errors);
+  result.lost = compute_stats(lost_errors);
+  return result;
+}
+
+nlohmann::json to_json(const StateEvaluation& result) {
+  return {{"alignment", "fitted on the tracked and relocalised poses"},
+          {"measured_translation_m", to_json(result.measured)},
+          {"bridged_translation_m", to_json(result.bridged)},
+          {"lost_translation_m", to_json(result.lost)},
+          {"poses_without_status", result.without_status}};
 }
 
 nlohmann::json to_json(const ErrorStats& stats) {
@@ -134,6 +200,44 @@ std::string format_table(const EvaluationResult& r) {
                      r.drift.final_error_m, r.drift.path_length_m, r.drift.percent,
                      r.positions_only ? "position" : "pose");
   return out;
+}
+
+FileEvaluation evaluate_files(const std::filesystem::path& estimate, const std::filesystem::path& groundtruth,
+                              const io::GroundTruthOptions& groundtruth_options, EvalOptions options,
+                              const std::optional<std::filesystem::path>& frames) {
+  FileEvaluation evaluation{.estimate_file = estimate, .groundtruth_file = groundtruth};
+  evaluation.groundtruth = io::read_groundtruth(groundtruth, groundtruth_options);
+  std::vector<double> estimate_times;  // a KITTI-format estimate shares the ground truth's clock
+  if (groundtruth_options.kitti_times) estimate_times = io::read_kitti_times(*groundtruth_options.kitti_times);
+  evaluation.estimate_format = io::detect_trajectory_format(estimate);
+  const io::Trajectory estimated = io::read_trajectory(estimate, evaluation.estimate_format, estimate_times);
+  options.positions_only = !evaluation.groundtruth.has_orientation ||
+                           evaluation.estimate_format == io::TrajectoryFormat::positions;
+  evaluation.result = evaluate(estimated, evaluation.groundtruth.poses, options);
+  // A vkvo run's status file splits the errors by how each pose came about.
+  evaluation.frames_file = frames;
+  if (const auto beside = estimate.parent_path() / "frames.csv"; !frames && std::filesystem::exists(beside))
+    evaluation.frames_file = beside;
+  if (evaluation.frames_file)
+    evaluation.by_state =
+        evaluate_by_state(estimated, io::read_frame_status(*evaluation.frames_file), evaluation.groundtruth.poses, options);
+  return evaluation;
+}
+
+nlohmann::json to_json(const FileEvaluation& evaluation) {
+  const io::GroundTruth& gt = evaluation.groundtruth;
+  nlohmann::json document = to_json(evaluation.result);
+  document["estimate"] = evaluation.estimate_file.string();
+  document["groundtruth"] = {{"path", evaluation.groundtruth_file.string()},
+                             {"format", io::to_string(gt.format)},
+                             {"frame", gt.frame == io::PoseFrame::body ? "body" : "camera"},
+                             {"body_to_camera_applied", gt.body_to_camera_applied},
+                             {"note", gt.note}};
+  if (evaluation.by_state) {
+    document["by_state"] = to_json(*evaluation.by_state);
+    document["by_state"]["frames"] = evaluation.frames_file->string();
+  }
+  return document;
 }
 
 }  // namespace vkvo::eval

@@ -8,6 +8,7 @@
 #include "runtime/buffer.hpp"
 #include "runtime/kernel.hpp"
 #include "runtime/ops.hpp"
+#include "runtime/push_constants.hpp"
 
 namespace vkvo::features {
 
@@ -43,10 +44,8 @@ struct NnMatcher::Impl {
       : context(ctx),
         params(p),
         gemm(ctx, rt::Precision::fp32),
-        best_kernel(ctx, {.op = "nn_best", .precision = rt::Precision::fp32, .bindings = 4,
-                          .written_bindings = 0b1110u, .push_constant_bytes = 8, .specialization = {}}),
-        select_kernel(ctx, {.op = "nn_select", .precision = rt::Precision::fp32, .bindings = 5,
-                            .written_bindings = 0b11000u, .push_constant_bytes = 16, .specialization = {}}) {}
+        best_kernel(ctx, {.op = rt::Op::nn_best}),
+        select_kernel(ctx, {.op = rt::Op::nn_select}) {}
 
   std::unique_ptr<rt::Buffer> make(std::size_t bytes, const char* name) const {
     return std::make_unique<rt::Buffer>(context, std::max<std::size_t>(bytes, 16), rt::BufferKind::device, name);
@@ -67,10 +66,10 @@ struct NnMatcher::Impl {
     gemm.record(*seq, *desc0, *desc1, nullptr, *similarity,
                 {.m = std::uint32_t(n0), .n = std::uint32_t(n1), .k = std::uint32_t(dim), .b_transposed = true},
                 "similarity");
-    struct BestPush { std::uint32_t n0, n1; } bp{std::uint32_t(n0), std::uint32_t(n1)};
+    const shader::SetSizesPush bp{std::uint32_t(n0), std::uint32_t(n1)};
     seq->dispatch(best_kernel, {rt::Binding(*similarity), rt::Binding(*best), rt::Binding(*best_value),
                                rt::Binding(*second)}, bp, {rt::groups_for(rows, 64)}, "nearest");
-    struct SelectPush { std::uint32_t n0, n1; float max_cosine_distance, ratio; } sp{
+    const shader::NnSelectPush sp{
         std::uint32_t(n0), std::uint32_t(n1), params.max_cosine_distance, params.ratio};
     seq->dispatch(select_kernel, {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*second),
                                   rt::Binding(*matches), rt::Binding(*scores)}, sp, {rt::groups_for(n0, 64)}, "select");

@@ -14,20 +14,17 @@
 #include "runtime/half.hpp"
 #include "runtime/kernel.hpp"
 #include "runtime/ops.hpp"
+#include "runtime/push_constants.hpp"
 #include "runtime/tensor_layout.hpp"
 
 namespace vkvo::features {
 namespace {
 
-// Query rows per invocation of superglue_attention_tiled.comp unless the caller chose: 8 on CPU devices, where the
-// key and value fetches then serve twice the multiply-adds (measured there); 4 on GPUs, which run that kernel only
-// when SuperGlueParams::shared_attention is false (8 doubles what each invocation holds: query rows and
-// accumulators, 2 x rows x head_dim floats).
+// Query rows per invocation of superglue_attention_tiled.comp: the caller's choice, else the device profile's.
 std::uint32_t attention_rows(const rt::Context& context, int chosen) {
   if (chosen < 0 || chosen > 16)
     throw std::invalid_argument(fmt::format("SuperGlue: attention_rows must be 0 (automatic) to 16, got {}", chosen));
-  if (chosen > 0) return static_cast<std::uint32_t>(chosen);
-  return context.caps().type == "cpu" ? 8 : 4;
+  return chosen > 0 ? static_cast<std::uint32_t>(chosen) : context.profile().attention_rows;
 }
 
 // Shared memory of superglue_attention_shared.comp (its tile sizes): the key tile with a spare vec4 per row, the
@@ -126,22 +123,15 @@ struct SuperGlue::Impl {
       : context(ctx),
         params(p),
         config(read_superglue_config(pack)),
-        precision(p.precision.value_or(ctx.caps().preferred_precision())),
+        precision(p.precision.value_or(ctx.profile().precision)),
         gemm(ctx, precision),
-        keypoints_kernel(ctx, {.op = "superglue_keypoints", .precision = precision, .bindings = 3,
-                               .written_bindings = 1u << 2, .push_constant_bytes = 24, .specialization = {}}),
-        softmax_kernel(ctx, {.op = "superglue_softmax", .precision = precision, .bindings = 1,
-                             .written_bindings = 1u, .push_constant_bytes = 12, .specialization = {}}),
-        scores_kernel(ctx, {.op = "superglue_scores", .precision = precision, .bindings = 2,
-                            .written_bindings = 1u << 1, .push_constant_bytes = 20, .specialization = {}}),
-        sinkhorn_kernel(ctx, {.op = "superglue_sinkhorn", .precision = precision, .bindings = 3,
-                              .written_bindings = 0b110u, .push_constant_bytes = 16, .specialization = {}}),
-        assignment_kernel(ctx, {.op = "superglue_assignment", .precision = precision, .bindings = 3,
-                                .written_bindings = 1u, .push_constant_bytes = 12, .specialization = {}}),
-        argmax_kernel(ctx, {.op = "superglue_argmax", .precision = precision, .bindings = 3,
-                            .written_bindings = 0b110u, .push_constant_bytes = 8, .specialization = {}}),
-        mutual_kernel(ctx, {.op = "superglue_mutual", .precision = precision, .bindings = 4,
-                            .written_bindings = 0b1100u, .push_constant_bytes = 12, .specialization = {}}) {
+        keypoints_kernel(ctx, {.op = rt::Op::superglue_keypoints, .precision = precision}),
+        softmax_kernel(ctx, {.op = rt::Op::superglue_softmax, .precision = precision}),
+        scores_kernel(ctx, {.op = rt::Op::superglue_scores, .precision = precision}),
+        sinkhorn_kernel(ctx, {.op = rt::Op::superglue_sinkhorn}),
+        assignment_kernel(ctx, {.op = rt::Op::superglue_assignment}),
+        argmax_kernel(ctx, {.op = rt::Op::superglue_argmax}),
+        mutual_kernel(ctx, {.op = rt::Op::superglue_mutual}) {
     ctx.caps().require(precision, "SuperGlue");
     iterations = params.sinkhorn_iterations > 0 ? params.sinkhorn_iterations : config.sinkhorn_iterations;
     attention_rows_per_invocation = attention_rows(ctx, params.attention_rows);
@@ -149,42 +139,32 @@ struct SuperGlue::Impl {
     const bool fused_attention = params.texel_kernels &&
                                  ctx.supports_uniform_texel_format(rt::packed_texel_format(precision)) &&
                                  head_dim % rt::values_per_packed_texel(precision) == 0;
-    if (fused_attention && params.shared_attention.value_or(ctx.caps().type != "cpu") &&
+    if (fused_attention && params.shared_attention.value_or(ctx.profile().shared_attention) &&
         shared_attention_bytes(head_dim) <= ctx.caps().max_shared_memory_bytes)
       attention_shared_kernel.emplace(
-          ctx, rt::KernelSpec{.op = "superglue_attention_shared", .precision = precision, .bindings = 2,
-                              .written_bindings = 1u << 1, .push_constant_bytes = 24, .specialization = {head_dim / 4},
-                              .texel_formats = {rt::packed_texel_format(precision)}});
+          ctx, rt::KernelSpec{.op = rt::Op::superglue_attention_shared, .precision = precision,
+                              .specialization = {head_dim / 4}, .texel_formats = {rt::packed_texel_format(precision)}});
     else if (fused_attention)
       attention_tiled_kernel.emplace(
-          ctx, rt::KernelSpec{.op = "superglue_attention_tiled", .precision = precision, .bindings = 2,
-                              .written_bindings = 1u << 1, .push_constant_bytes = 24,
+          ctx, rt::KernelSpec{.op = rt::Op::superglue_attention_tiled, .precision = precision,
                               .specialization = {head_dim / 4, attention_rows_per_invocation},
                               .texel_formats = {rt::packed_texel_format(precision)}});
     if (params.texel_kernels && ctx.supports_uniform_texel_format(rt::vec4_texel_format(precision))) {
       if (config.descriptor_dim % 4 == 0)
         scores_tiled_kernel.emplace(
-            ctx, rt::KernelSpec{.op = "superglue_scores_tiled", .precision = precision, .bindings = 2,
-                                .written_bindings = 1u << 1, .push_constant_bytes = 20, .specialization = {},
+            ctx, rt::KernelSpec{.op = rt::Op::superglue_scores_tiled,
                                 .texel_formats = {rt::vec4_texel_format(precision)}});
     }
     if (params.texel_kernels && ctx.supports_uniform_texel_format(vk::Format::eR32G32B32A32Sfloat)) {
-      couplings_pad_kernel.emplace(ctx, rt::KernelSpec{.op = "superglue_couplings_pad", .precision = precision,
-                                                       .bindings = 3, .written_bindings = 0b110u,
-                                                       .push_constant_bytes = 16, .specialization = {}});
+      constexpr auto kFloat4 = vk::Format::eR32G32B32A32Sfloat;
+      couplings_pad_kernel.emplace(ctx, rt::KernelSpec{.op = rt::Op::superglue_couplings_pad});
       sinkhorn_tiled_kernel.emplace(
-          ctx, rt::KernelSpec{.op = "superglue_sinkhorn_tiled", .precision = precision, .bindings = 3,
-                              .written_bindings = 0b100u, .push_constant_bytes = 16, .specialization = {},
-                              .texel_formats = {vk::Format::eR32G32B32A32Sfloat, vk::Format::eR32G32B32A32Sfloat}});
+          ctx, rt::KernelSpec{.op = rt::Op::superglue_sinkhorn_tiled, .texel_formats = {kFloat4, kFloat4}});
       sinkhorn_fused_kernel.emplace(
-          ctx, rt::KernelSpec{.op = "superglue_sinkhorn_fused", .precision = precision, .bindings = 4,
-                              .written_bindings = 0b1100u, .push_constant_bytes = 24, .specialization = {},
-                              .texel_formats = {vk::Format::eR32G32B32A32Sfloat, vk::Format::eR32G32B32A32Sfloat}});
-      if (params.sinkhorn_workgroup_per_line.value_or(ctx.caps().type != "cpu"))
+          ctx, rt::KernelSpec{.op = rt::Op::superglue_sinkhorn_fused, .texel_formats = {kFloat4, kFloat4}});
+      if (params.sinkhorn_workgroup_per_line.value_or(ctx.profile().sinkhorn_workgroup_per_line))
         sinkhorn_lines_kernel.emplace(
-            ctx, rt::KernelSpec{.op = "superglue_sinkhorn_lines", .precision = precision, .bindings = 3,
-                                .written_bindings = 0b100u, .push_constant_bytes = 16, .specialization = {},
-                                .texel_formats = {vk::Format::eR32G32B32A32Sfloat, vk::Format::eR32G32B32A32Sfloat}});
+            ctx, rt::KernelSpec{.op = rt::Op::superglue_sinkhorn_lines, .texel_formats = {kFloat4, kFloat4}});
     }
     prepare_weights(pack);
   }
@@ -208,17 +188,13 @@ struct SuperGlue::Impl {
   }
 
   // Whether Sinkhorn runs as one workgroup (superglue_sinkhorn_fused.comp) at the current size: its shared
-  // potentials hold 1024 entries per set, dustbin and padding included. CPU devices choose it for couplings up to
-  // kFusedSinkhornCells entries: there every dispatch wakes the worker threads (about 0.07 ms on 2 cores), while the
-  // fused kernel runs on one of them. Measured with lavapipe on 2 Zen 5 cores (100 iterations, one profiled call
-  // each, dispatches' figures less their timestamps): N = M = 100 4 vs ~19 ms, 200 16 vs ~24 ms, 250 24 vs ~24 ms,
-  // 300 35 vs ~19-26 ms, 400 62 vs ~32 ms. GPUs keep the dispatches: on an H200 the fused kernel took 1.95 / 7.7 /
-  // 37 ms at N = M = 200 / 400 / 1000 against 1.8 / 2.9 / 6.0 ms for the 200 dispatches (fp32, profiled calls).
-  static constexpr std::size_t kFusedSinkhornCells = 48 * 1024;  // N = M = 220
+  // potentials hold 1024 entries per set, dustbin and padding included. Automatic: up to the device profile's
+  // number of couplings (CPU devices, where every dispatch wakes the worker threads while the fused kernel runs on
+  // one of them; docs/performance-history.md, "SuperGlue").
   bool fused_sinkhorn_runs() const {
     if (!sinkhorn_fused_kernel || !texel_sinkhorn_fits() || rows_padded() > 1024 || cols_padded() > 1024) return false;
     if (params.fused_sinkhorn) return *params.fused_sinkhorn;
-    return context.caps().type == "cpu" && (n0 + 1) * (n1 + 1) <= kFusedSinkhornCells;
+    return (n0 + 1) * (n1 + 1) <= context.profile().fused_sinkhorn_max_cells;
   }
 
   // Regroups and folds the pack's fp32 weights (superglue/weights.hpp) and uploads them at the storage precision:
@@ -305,10 +281,7 @@ struct SuperGlue::Impl {
     const std::uint32_t dim = config.descriptor_dim, heads = config.heads, head_dim = dim / heads;
     const std::uint32_t rows_a = a == 0 ? n0 : n1, rows_s = src == 0 ? n0 : n1;
     const std::uint32_t first_a = a == 0 ? 0 : n0, first_s = src == 0 ? 0 : n0;
-    struct AttentionPush {
-      std::uint32_t queries, keys, query_row0, key_row0, dim;
-      float scale;
-    } push{rows_a, rows_s, first_a, first_s, dim, 1.0f / std::sqrt(float(head_dim))};
+    const shader::AttentionPush push{rows_a, rows_s, first_a, first_s, dim, 1.0f / std::sqrt(float(head_dim))};
     if (attention_shared_kernel && fits_texel_view(*qkv, rt::kPackedTexelBytes)) {
       seq->dispatch(*attention_shared_kernel, {rt::Binding(*qkv), rt::Binding(*state)}, push,
                     {rt::groups_for(rows_a, 16), heads, 1}, label);
@@ -326,7 +299,7 @@ struct SuperGlue::Impl {
                  .a_offset = first_a * 3 * dim, .b_offset = first_s * 3 * dim + dim, .batch = heads,
                  .a_batch_stride = head_dim, .b_batch_stride = head_dim, .c_batch_stride = rows_a * keys},
                 label + " q.k");
-    struct SoftmaxPush { std::uint32_t rows, cols, stride; } sp{heads * rows_a, rows_s, keys};
+    const shader::SoftmaxPush sp{heads * rows_a, rows_s, keys};
     seq->dispatch(softmax_kernel, {rt::Binding(scores)}, sp, {rt::groups_for(sp.rows, 64)}, label + " softmax");
     gemm.record(*seq, scores, *qkv, nullptr, *state,
                 {.m = rows_a, .n = head_dim, .k = keys, .lda = keys, .ldb = 3 * dim, .ldc = 2 * dim,
@@ -363,9 +336,8 @@ struct SuperGlue::Impl {
     }
     linear(final_proj, *state, 2 * dim, *hidden, dim, false, false, "final_proj");
 
-    struct ScoresPush { std::uint32_t n0, n1, dim; float scale, bin; } sc{std::uint32_t(n0), std::uint32_t(n1), dim,
-                                                                         1.0f / std::sqrt(float(dim)),
-                                                                         config.bin_score};
+    const shader::ScoresPush sc{std::uint32_t(n0), std::uint32_t(n1), dim, 1.0f / std::sqrt(float(dim)),
+                                config.bin_score};
     const bool texel_scores = scores_tiled_kernel && fits_vec4_texel_view(*hidden);
     seq->dispatch(texel_scores ? *scores_tiled_kernel : scores_kernel, {rt::Binding(*hidden), rt::Binding(*z)}, sc,
                   {rt::groups_for(rt::groups_for(n1 + 1, 4), 16), rt::groups_for(rt::groups_for(n0 + 1, 3), 4)},
@@ -376,25 +348,23 @@ struct SuperGlue::Impl {
     if (texel_sinkhorn_fits()) {
       record_texel_sinkhorn(norm);
     } else {
-      struct SinkhornPush { std::uint32_t rows, cols, axis; float norm; };
       for (int it = 0; it < iterations; ++it)
         for (std::uint32_t axis = 0; axis < 2; ++axis) {
-          const SinkhornPush push{std::uint32_t(n0 + 1), std::uint32_t(n1 + 1), axis, norm};
+          const shader::SinkhornPush push{std::uint32_t(n0 + 1), std::uint32_t(n1 + 1), axis, norm};
           seq->dispatch(sinkhorn_kernel, {rt::Binding(*z), rt::Binding(*u), rt::Binding(*v)}, push,
                         {rt::groups_for(axis == 0 ? n0 + 1 : n1 + 1, 64)}, "sinkhorn");
         }
     }
-    struct AssignPush { std::uint32_t rows, cols; float norm; } ap{std::uint32_t(n0 + 1), std::uint32_t(n1 + 1), norm};
+    const shader::AssignmentPush ap{std::uint32_t(n0 + 1), std::uint32_t(n1 + 1), norm};
     const std::size_t cells = (n0 + 1) * (n1 + 1);
     const std::uint32_t groups = rt::groups_for(cells, 64);
     const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535), gy = rt::groups_for(groups, gx);
     seq->dispatch(assignment_kernel, {rt::Binding(*z), rt::Binding(*u), rt::Binding(*v)}, ap, {gx, gy},
                   "log_assignment");
-    struct PairPush { std::uint32_t n0, n1; } pp{std::uint32_t(n0), std::uint32_t(n1)};
+    const shader::SetSizesPush pp{std::uint32_t(n0), std::uint32_t(n1)};
     seq->dispatch(argmax_kernel, {rt::Binding(*z), rt::Binding(*best), rt::Binding(*best_value)}, pp,
                   {rt::groups_for(rows, 64)}, "argmax");
-    struct MutualPush { std::uint32_t n0, n1; float threshold; } mp{std::uint32_t(n0), std::uint32_t(n1),
-                                                                    params.match_threshold};
+    const shader::MutualPush mp{std::uint32_t(n0), std::uint32_t(n1), params.match_threshold};
     seq->dispatch(mutual_kernel,
                   {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*matches), rt::Binding(*match_scores)},
                   mp, {rt::groups_for(n0, 64)}, "mutual");
@@ -406,19 +376,17 @@ struct SuperGlue::Impl {
   void record_texel_sinkhorn(float norm) {
     const auto rows = std::uint32_t(n0 + 1), cols = std::uint32_t(n1 + 1);
     const auto rows_p = std::uint32_t(rows_padded()), cols_p = std::uint32_t(cols_padded());
-    struct PadPush { std::uint32_t rows, cols, rows_padded, cols_padded; } pad{rows, cols, rows_p, cols_p};
+    const shader::CouplingsPadPush pad{rows, cols, rows_p, cols_p};
     seq->dispatch(*couplings_pad_kernel, {rt::Binding(*z), rt::Binding(*z_rows), rt::Binding(*z_cols)}, pad,
                   {rt::groups_for(cols_p, 16), rt::groups_for(rows_p, 4)}, "sinkhorn init");
     if (fused_sinkhorn_runs()) {
-      struct FusedPush { std::uint32_t rows, cols, row_texels, column_texels, iterations; float norm; } fused{
-          rows, cols, cols_p / 4, rows_p / 4, std::uint32_t(iterations), norm};
+      const shader::SinkhornFusedPush fused{rows, cols, cols_p / 4, rows_p / 4, std::uint32_t(iterations), norm};
       seq->dispatch(*sinkhorn_fused_kernel,
                     {rt::Binding(*z_rows), rt::Binding(*z_cols), rt::Binding(*u), rt::Binding(*v)}, fused, {1},
                     "sinkhorn");
       return;
     }
-    struct HalfPush { std::uint32_t lines, line_length, texels; float norm; };
-    const HalfPush by_row{rows, cols, cols_p / 4, norm}, by_column{cols, rows, rows_p / 4, norm};
+    const shader::SinkhornHalfPush by_row{rows, cols, cols_p / 4, norm}, by_column{cols, rows, rows_p / 4, norm};
     // A workgroup per line (sinkhorn_lines_kernel), or 64 lines per workgroup.
     const rt::Kernel& half = sinkhorn_lines_kernel ? *sinkhorn_lines_kernel : *sinkhorn_tiled_kernel;
     const std::uint32_t row_groups = sinkhorn_lines_kernel ? rows : rt::groups_for(rows, 64);
@@ -430,10 +398,7 @@ struct SuperGlue::Impl {
     }
   }
 
-  struct ImagePush {
-    std::uint32_t n0, n1;
-    float w0, h0, w1, h1;
-  } image_push{};
+  shader::KeypointsPush image_push{};
 };
 
 SuperGlue::SuperGlue(const rt::Context& context, const io::ModelPack& pack, const SuperGlueParams& params)
@@ -493,10 +458,11 @@ PointMatches SuperGlue::match(const PointFeatures& a, const PointFeatures& b, Ei
     s.allocate();
     s.recorded = false;
   }
-  const Impl::ImagePush image{std::uint32_t(s.n0), std::uint32_t(s.n1), float(a.image_width), float(a.image_height),
+  const shader::KeypointsPush image{std::uint32_t(s.n0), std::uint32_t(s.n1), float(a.image_width), float(a.image_height),
                               float(b.image_width), float(b.image_height)};
-  if (image.w0 != s.image_push.w0 || image.h0 != s.image_push.h0 || image.w1 != s.image_push.w1 ||
-      image.h1 != s.image_push.h1 || image.n0 != s.image_push.n0 || image.n1 != s.image_push.n1) {
+  if (image.width0 != s.image_push.width0 || image.height0 != s.image_push.height0 ||
+      image.width1 != s.image_push.width1 || image.height1 != s.image_push.height1 || image.n0 != s.image_push.n0 ||
+      image.n1 != s.image_push.n1) {
     s.image_push = image;
     s.recorded = false;
   }

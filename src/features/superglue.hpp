@@ -28,12 +28,12 @@ namespace vkvo::features {
 struct SuperGlueParams {
   float match_threshold = 0.2f;    // keep mutual matches whose exp(log-assignment) exceeds this
   int sinkhorn_iterations = 100;   // <= 0: the pack's value
-  std::optional<rt::Precision> precision;  // nullopt: DeviceCaps::preferred_precision()
+  std::optional<rt::Precision> precision;  // nullopt: the device profile's (rt::DeviceProfile::precision)
   // The fused attention, the score matrix and Sinkhorn through texel buffers (superglue_*_tiled.comp) where the
   // device can; false forces what devices with small texel buffers fall back to: attention as q.k GEMM, softmax
   // and p.v GEMM, storage-buffer scores and Sinkhorn (tests cover both).
   bool texel_kernels = true;
-  // Query rows per invocation of the fused attention, 1-16; 0: the device's choice (8 on CPUs, 4 on GPUs).
+  // Query rows per invocation of the fused attention, 1-16; 0: rt::DeviceProfile::attention_rows.
   int attention_rows = 0;
   // The fused attention's GPU form (superglue_attention_shared.comp: a workgroup of 16 query rows shares each tile of
   // keys and values through shared memory, 4 invocations per row) rather than the register-held rows above, where
@@ -82,8 +82,8 @@ class SuperGlue final : public PointMatcher {
   // (superglue_attention_tiled.comp) or "three-pass" (q.k GEMM, softmax, p.v GEMM).
   std::string attention_form() const;
   // Per-dispatch GPU times of the last call: empty unless profiling is on (and the device has timestamps), or
-  // when N or M was 0. Off by default: a timestamp after each of the ~300 dispatches costs lavapipe about 6 % of
-  // a call at N = M = 200 (rt::Sequence). Takes effect at the next match().
+  // when N or M was 0. Off by default: a timestamp after each of the ~300 dispatches costs lavapipe a few percent
+  // of a call (rt::Sequence). Takes effect at the next match().
   void set_profiling(bool on);
   std::vector<rt::CommandTiming> last_timings() const;
   // Arithmetic of one call with n0 and n1 keypoints (multiply-adds count 2).

@@ -53,7 +53,7 @@ SuperPointParams load_superpoint_params(const YAML::Node& section) {
 }
 
 SuperPoint::SuperPoint(const rt::Context& context, const io::ModelPack& pack, const SuperPointParams& params)
-    : context_(context), params_(params), precision_(params.precision.value_or(context.caps().preferred_precision())) {
+    : context_(context), params_(params), precision_(params.precision.value_or(context.profile().precision)) {
   if (pack.kind() != io::NetworkKind::superpoint)
     throw std::runtime_error(fmt::format("model pack '{}' is not a SuperPoint pack", pack.source()));
   context.caps().require(precision_, "SuperPoint");

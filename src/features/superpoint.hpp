@@ -37,7 +37,7 @@ struct SuperPointParams {
   // devices; `on` wherever the precision is fp32 and the tiled kernels run; `off` never.
   enum class Winograd { automatic, on, off } winograd = Winograd::automatic;
   // Its output tile side m: F(6x6, 3x3) does 21 % fewer GEMM multiply-adds and stores 21 % fewer transformed values
-  // than F(4x4, 3x3) (4-16 % faster on lavapipe; docs/performance-history.md).
+  // than F(4x4, 3x3) (faster on lavapipe: docs/performance-history.md).
   rt::WinogradConv3x3::Tile winograd_tile = rt::WinogradConv3x3::Tile::f63;
 };
 
@@ -50,7 +50,7 @@ std::optional<SuperPointParams::Winograd> parse_winograd(std::string_view text);
 // 4 or 6 (the output tile side); nullopt for anything else.
 std::optional<rt::WinogradConv3x3::Tile> winograd_tile_from_side(int side);
 
-// The network's dense outputs, before NMS (the layout of /work/shared/golden/superpoint/*).
+// The network's dense outputs, before NMS (the layout of the golden outputs, $VKVO_DATA/golden/superpoint/*).
 struct SuperPointDense {
   int cells_h = 0, cells_w = 0;     // H/8, W/8 (floor)
   std::vector<float> scores;        // (cells_h*8) x (cells_w*8), row-major

@@ -24,6 +24,26 @@ const char* to_string(DatasetKind kind) {
   return "unknown";
 }
 
+std::pair<std::size_t, std::size_t> parse_frame_span(const std::string& text) {
+  const auto number = [&](const std::string& part) {
+    std::size_t used = 0;
+    unsigned long long value = 0;
+    try {
+      value = std::stoull(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (part.empty() || used != part.size() || part.front() == '-' || part.front() == '+')
+      throw std::invalid_argument(fmt::format("frame span '{}': expected A-B or A (frame indices)", text));
+    return static_cast<std::size_t>(value);
+  };
+  const auto dash = text.find('-');
+  const std::size_t first = number(text.substr(0, dash));
+  const std::size_t last = dash == std::string::npos ? first : number(text.substr(dash + 1));
+  if (last < first) throw std::invalid_argument(fmt::format("frame span '{}': the end comes before the start", text));
+  return {first, last};
+}
+
 bool is_image_file(const fs::path& file) {
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -42,6 +62,13 @@ DatasetOptions load_dataset_options(const YAML::Node& dataset_section, const YAM
   options.range.first = static_cast<std::size_t>(first);
   if (last >= 0) options.range.last = static_cast<std::size_t>(last);
   options.range.stride = static_cast<std::size_t>(stride);
+  for (const std::string& span : param<std::vector<std::string>>(dataset_section, "skip", {})) {
+    try {
+      options.range.skip.push_back(parse_frame_span(span));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(fmt::format("config key 'skip': {}", e.what()));
+    }
+  }
   const double max_dt_ms = param<double>(dataset_section, "max_stereo_dt_ms", 1.0);
   if (!(max_dt_ms >= 0)) throw std::runtime_error("config key 'max_stereo_dt_ms': must be >= 0");
   options.max_stereo_dt_ns = static_cast<std::int64_t>(std::llround(max_dt_ms * 1e6));
@@ -116,7 +143,13 @@ void StereoDataset::finish(const DatasetOptions& options, const std::string& cal
                                          range.last ? std::to_string(*range.last) : std::string("end"), total));
   std::vector<StereoFrame> selected;
   selected.reserve((last - range.first) / range.stride + 1);
-  for (std::size_t i = range.first; i <= last; i += range.stride) selected.push_back(frames_[i]);
+  const auto skipped = [&](std::size_t i) {
+    return std::any_of(range.skip.begin(), range.skip.end(), [&](const auto& s) { return i >= s.first && i <= s.second; });
+  };
+  for (std::size_t i = range.first; i <= last; i += range.stride)
+    if (!skipped(i)) selected.push_back(frames_[i]);
+  if (selected.empty())
+    throw std::runtime_error(fmt::format("{}: the frames to skip leave none of the range", root_.string()));
   frames_ = std::move(selected);
   spdlog::info("dataset {} ({}): {} stereo frames of {}, {:.2f} s", name_, to_string(kind()), frames_.size(), total,
                frames_.back().timestamp_s - frames_.front().timestamp_s);

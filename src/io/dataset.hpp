@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -37,7 +38,12 @@ struct FrameRange {
   std::size_t first = 0;
   std::optional<std::size_t> last;  // inclusive; nullopt = to the end
   std::size_t stride = 1;
+  // Frames of the sequence left out (inclusive index ranges), e.g. to drop a stretch and see the camera reappear
+  // elsewhere (a "kidnap"). The frames left keep their timestamps.
+  std::vector<std::pair<std::size_t, std::size_t>> skip;
 };
+// "A-B" (inclusive) or "A"; throws std::invalid_argument naming the text.
+std::pair<std::size_t, std::size_t> parse_frame_span(const std::string& text);
 
 struct DatasetOptions {
   FrameRange range;
@@ -52,7 +58,7 @@ struct DatasetOptions {
 bool is_image_file(const std::filesystem::path& file);
 
 // Reads a `dataset:` config section: first_frame (0), last_frame (-1 = to the end, inclusive), stride (1),
-// max_stereo_dt_ms (1.0). `camera` is the `camera:` section kept as overrides (may be empty).
+// skip (a list of "A-B" frame spans to leave out, []), max_stereo_dt_ms (1.0). `camera` is the `camera:` section kept as overrides (may be empty).
 DatasetOptions load_dataset_options(const YAML::Node& dataset_section, const YAML::Node& camera_section = {});
 
 class StereoDataset {

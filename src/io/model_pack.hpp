@@ -93,7 +93,7 @@ class ModelPack {
   std::span<const std::byte> data_block() const { return {data_.get(), data_size_}; }
 
   // Hyper-parameters. Getters throw naming the file and the key when it is missing or of another type.
-  const std::map<std::string, HyperValue, std::less<>>& hyper_parameters() const { return hyper_; }
+  const std::map<std::string, HyperValue, std::less<>>& hyper_parameters() const { return hyper_; }  // all (copying a pack)
   bool has(std::string_view key) const { return hyper_.find(key) != hyper_.end(); }
   double number(std::string_view key) const;
   std::int64_t integer(std::string_view key) const;  // a number that must be integral

@@ -29,6 +29,17 @@ const char* to_string(TrajectoryFormat format) {
 
 // ---------------------------------------------------------------------------------------------- TUM writer
 
+namespace {
+
+std::string tum_text(const std::string& time_text, const Eigen::Isometry3d& pose) {
+  const Eigen::Vector3d p = pose.translation();
+  const Eigen::Quaterniond q(pose.rotation());
+  return fmt::format("{} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n", time_text, p.x(), p.y(), p.z(), q.x(),
+                     q.y(), q.z(), q.w());
+}
+
+}  // namespace
+
 TumTrajectoryWriter::TumTrajectoryWriter(const fs::path& file, bool append) : path_(file) {
   if (file.has_parent_path()) fs::create_directories(file.parent_path());
   file_ = std::fopen(file.c_str(), append ? "a" : "w");
@@ -45,21 +56,25 @@ void TumTrajectoryWriter::write(double t, const Eigen::Isometry3d& pose) {
 }
 
 void TumTrajectoryWriter::write_ns(std::int64_t timestamp_ns, const Eigen::Isometry3d& pose) {
-  const char* sign = timestamp_ns < 0 ? "-" : "";
-  const std::uint64_t magnitude =
-      timestamp_ns < 0 ? static_cast<std::uint64_t>(-(timestamp_ns + 1)) + 1 : static_cast<std::uint64_t>(timestamp_ns);
-  write_line(fmt::format("{}{}.{:09d}", sign, magnitude / 1'000'000'000ULL, magnitude % 1'000'000'000ULL), pose);
+  write_text(tum_line_ns(timestamp_ns, pose));
 }
 
 void TumTrajectoryWriter::write_line(const std::string& time_text, const Eigen::Isometry3d& pose) {
-  const Eigen::Vector3d p = pose.translation();
-  const Eigen::Quaterniond q(pose.rotation());
-  const std::string line = fmt::format("{} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n", time_text, p.x(),
-                                       p.y(), p.z(), q.x(), q.y(), q.z(), q.w());
+  write_text(tum_text(time_text, pose));
+}
+
+void TumTrajectoryWriter::write_text(const std::string& line) {
   // One fwrite + fflush per pose: the line reaches the OS before the next frame is processed.
   if (std::fwrite(line.data(), 1, line.size(), file_) != line.size() || std::fflush(file_) != 0)
     throw std::runtime_error(fmt::format("{}: write failed ({})", path_.string(), std::strerror(errno)));
   ++lines_;
+}
+
+std::string tum_line_ns(std::int64_t timestamp_ns, const Eigen::Isometry3d& pose) {
+  const char* sign = timestamp_ns < 0 ? "-" : "";
+  const std::uint64_t magnitude =
+      timestamp_ns < 0 ? static_cast<std::uint64_t>(-(timestamp_ns + 1)) + 1 : static_cast<std::uint64_t>(timestamp_ns);
+  return tum_text(fmt::format("{}{}.{:09d}", sign, magnitude / 1'000'000'000ULL, magnitude % 1'000'000'000ULL), pose);
 }
 
 void write_tum(const fs::path& file, const Trajectory& trajectory) {

@@ -47,12 +47,15 @@ class TumTrajectoryWriter {
 
  private:
   void write_line(const std::string& time_text, const Eigen::Isometry3d& pose);
+  void write_text(const std::string& line);
   std::filesystem::path path_;
   std::FILE* file_ = nullptr;
   std::size_t lines_ = 0;
 };
 
 void write_tum(const std::filesystem::path& file, const Trajectory& trajectory);
+// One TUM line ("t x y z qx qy qz qw\n") with an exact nanosecond timestamp printed as seconds with 9 decimals.
+std::string tum_line_ns(std::int64_t timestamp_ns, const Eigen::Isometry3d& pose);
 
 // Readers throw std::runtime_error naming file:line on malformed lines. Comment ('#') and blank lines are skipped.
 Trajectory read_tum(const std::filesystem::path& file);
@@ -81,9 +84,8 @@ enum class PoseFrame { automatic, body, camera };
 enum class GroundTruthOrientation {
   // As written, except ORB-SLAM3's EuRoC ground truth (an 8-column EuRoC CSV in a folder named EuRoC_left_cam,
   // as found beside a sequence): inverse. Those files give cam0's position in the world but the world-to-camera
-  // rotation (on MH_01, read as written, every pose is ~121 deg off after alignment and the KITTI-style RPE is
-  // 170 %; inverted, the rotation error is the alignment's own 1.8 deg and the RPE agrees with the
-  // positions-only one).
+  // rotation (read as written, every pose is far off after alignment; inverted, the rotation error is the
+  // alignment's own and the RPE agrees with the positions-only one: docs/accuracy.md).
   automatic,
   as_written,
   inverse,  // the file's rotation is world-to-frame: use its transpose

@@ -1,6 +1,7 @@
 #include "map/map.hpp"
 
 #include <algorithm>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -86,6 +87,24 @@ int cull_table(std::map<Id, Landmark>& table, std::vector<Id> Frame::*ids, std::
   return static_cast<int>(doomed.size());
 }
 
+template <typename Landmark>
+void fuse_landmark(std::map<Id, Landmark>& table, std::vector<Id> Frame::*ids, std::map<Id, KeyFrame>& keyframes,
+                   Id from, Id into, const char* what) {
+  if (from == into) return;
+  Landmark& source = must_find(table, from, what);
+  Landmark& target = must_find(table, into, what);
+  for (const auto& [kf_id, index] : source.observations) {
+    KeyFrame& kf = keyframes.at(kf_id);
+    (kf.*ids)[index] = kInvalidId;
+    if (target.observations.count(kf_id)) continue;
+    (kf.*ids)[index] = into;
+    target.observations[kf_id] = index;
+  }
+  target.first_keyframe = std::min(target.first_keyframe, source.first_keyframe);
+  table.erase(from);
+}
+
+
 }  // namespace
 
 KeyFrame& Map::add_keyframe(const Frame& frame) {
@@ -128,7 +147,6 @@ void Map::add_line_observation(Id line, Id kf, int index) {
 void Map::erase_point_observation(Id point, Id kf) { unlink(points_, &Frame::point_ids, keyframes_, point, kf); }
 void Map::erase_line_observation(Id line, Id kf) { unlink(lines_, &Frame::line_ids, keyframes_, line, kf); }
 void Map::erase_point(Id point) { erase_landmark(points_, &Frame::point_ids, keyframes_, point); }
-void Map::erase_line(Id line) { erase_landmark(lines_, &Frame::line_ids, keyframes_, line); }
 
 void Map::erase_keyframe(Id kf) {
   const auto it = keyframes_.find(kf);
@@ -138,6 +156,37 @@ void Map::erase_keyframe(Id kf) {
   for (Id l : it->second.line_ids)
     if (auto ln = lines_.find(l); ln != lines_.end()) ln->second.observations.erase(kf);
   keyframes_.erase(it);
+}
+
+void Map::merge_segment(int from, int into, const Eigen::Isometry3d& T_into_from) {
+  std::set<Id> points, lines;
+  for (auto& [id, kf] : keyframes_) {
+    if (kf.segment != from) continue;
+    kf.segment = into;
+    kf.T_world_camera = T_into_from * kf.T_world_camera;
+    for (Id p : kf.point_ids)
+      if (p != kInvalidId) points.insert(p);
+    for (Id l : kf.line_ids)
+      if (l != kInvalidId) lines.insert(l);
+  }
+  for (Id p : points)
+    if (MapPoint* point = this->point(p)) point->position = T_into_from * point->position;
+  for (Id l : lines) {
+    MapLine* line = this->line(l);
+    if (!line) continue;
+    line->line = geometry::transform_line(T_into_from, line->line).normalized();
+    if (line->endpoints)
+      line->endpoints = std::make_pair(T_into_from * line->endpoints->first, T_into_from * line->endpoints->second);
+  }
+}
+
+void Map::fuse_point(Id from, Id into) { fuse_landmark(points_, &Frame::point_ids, keyframes_, from, into, "point"); }
+void Map::fuse_line(Id from, Id into) { fuse_landmark(lines_, &Frame::line_ids, keyframes_, from, into, "line"); }
+
+std::vector<int> Map::segments() const {
+  std::set<int> found;
+  for (const auto& [id, kf] : keyframes_) found.insert(kf.segment);
+  return {found.begin(), found.end()};
 }
 
 std::pair<int, int> Map::cull(const MapParams& params) {

@@ -54,6 +54,9 @@ struct Frame {
 
 struct KeyFrame : Frame {
   Id id = kInvalidId;  // keyframe id (0, 1, 2, ... in creation order)
+  // The map segment it belongs to. A tracking loss that relocalisation cannot repair starts a new segment, whose
+  // poses are anchored at a prediction; segments share one world frame only once merged (Map::merge_segment).
+  int segment = 0;
 };
 
 struct MapPoint {
@@ -96,8 +99,18 @@ class Map {
   void erase_point_observation(Id point, Id kf);
   void erase_line_observation(Id line, Id kf);
   void erase_point(Id point);  // and all its observations
-  void erase_line(Id line);
   void erase_keyframe(Id kf);  // and its observations (its landmarks stay)
+
+  // Joins segment `from` to segment `into`: every keyframe of `from`, and every landmark they observe, is moved by
+  // T_into_from (the world of `from` -> the world of `into`), and the keyframes take segment `into`. Landmarks are
+  // assumed to belong to one segment (a segment starts with landmarks of its own).
+  void merge_segment(int from, int into, const Eigen::Isometry3d& T_into_from);
+  // The same physical landmark mapped twice: every observation of `from` moves to `into` (a keyframe that observes
+  // both keeps its observation of `into`), then `from` is erased.
+  void fuse_point(Id from, Id into);
+  void fuse_line(Id from, Id into);
+  // Segments that have keyframes, ascending.
+  std::vector<int> segments() const;
 
   // Erases bad landmarks, landmarks without observations, and those still seen by too few keyframes after the
   // grace period. Returns {points erased, lines erased}.

@@ -1,8 +1,10 @@
 #include "system/pipeline.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <thread>
 
@@ -10,12 +12,14 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include "eval/evaluate.hpp"
+#include "io/frame_status.hpp"
 #include "io/map_ply.hpp"
 #include "io/run_summary.hpp"
 #include "io/trajectory.hpp"
-#include "system/gap_bridge.hpp"
 #include "system/odometry_stream.hpp"
 #include "system/stereo_odometry.hpp"
+#include "system/trajectory_record.hpp"
 
 namespace vkvo::system {
 namespace {
@@ -56,6 +60,42 @@ io::MapGeometry map_geometry(const map::Map& map, const std::vector<Eigen::Vecto
   return g;
 }
 
+// The keyframes' poses after the last bundle adjustment, at their frames' exact timestamps.
+void write_refined_keyframes(const std::filesystem::path& file, const StereoOdometry& odometry,
+                             const TrajectoryRecord& record) {
+  std::map<std::size_t, std::int64_t> timestamp_of;
+  for (const FrameRecord& f : record.frames()) timestamp_of[f.index] = f.timestamp_ns;
+  io::TumTrajectoryWriter writer(file);
+  for (const auto& [frame, pose] : odometry.refined_keyframes())
+    if (const auto it = timestamp_of.find(frame); it != timestamp_of.end()) writer.write_ns(it->second, pose);
+}
+
+// ATE and the rest of the per-frame trajectory (whole, and split by frame state) and of the refined keyframes,
+// against the ground truth found with the dataset; null when there is none or the run left too few poses.
+nlohmann::json evaluate_outputs(const io::StereoDataset& dataset, const RunResult& result) {
+  const auto groundtruth = io::read_dataset_groundtruth(dataset);
+  if (!groundtruth) return nullptr;
+  eval::EvalOptions options;
+  options.positions_only = !groundtruth->has_orientation;
+  nlohmann::json out = {{"groundtruth", dataset.groundtruth_path()->string()}};
+  const auto attempt = [&](const char* key, const auto& evaluate) {
+    try {
+      out[key] = evaluate();
+    } catch (const std::exception& e) {
+      spdlog::warn("evaluation of the {} skipped: {}", key, e.what());
+    }
+  };
+  attempt("trajectory", [&] { return eval::to_json(eval::evaluate(io::read_tum(result.trajectory), groundtruth->poses, options)); });
+  attempt("trajectory_by_state", [&] {
+    return eval::to_json(eval::evaluate_by_state(io::read_tum(result.trajectory),
+                                                 io::read_frame_status(result.frames_file), groundtruth->poses, options));
+  });
+  attempt("keyframes_refined", [&] {
+    return eval::to_json(eval::evaluate(io::read_tum(result.keyframes_refined_file), groundtruth->poses, options));
+  });
+  return out;
+}
+
 }  // namespace
 
 RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, PointFrontend& feature_frontend,
@@ -65,21 +105,12 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   result.trajectory = options.output_dir / "trajectory.txt";
   result.keyframes_file = options.output_dir / "keyframes.txt";
   result.summary = options.output_dir / "summary.json";
+  result.frames_file = options.output_dir / "frames.csv";
+  result.keyframes_refined_file = options.output_dir / "keyframes_refined.txt";
 
   StereoOdometry odometry(config, dataset.calibration(), feature_frontend, stereo_frontend);
-  io::TumTrajectoryWriter trajectory(result.trajectory);
-  io::TumTrajectoryWriter keyframes(result.keyframes_file);
-  std::vector<Eigen::Vector3d> centres;
-  GapBridge gap_bridge(config.tracking.bridge_max_frames);
-  auto write_poses = [&](const std::vector<FramePose>& poses) {
-    for (const FramePose& pose : poses) {
-      trajectory.write_ns(pose.timestamp_ns, pose.T_world_camera);
-      centres.push_back(pose.T_world_camera.translation());
-    }
-    if (poses.size() > 1 && poses.front().bridged)
-      spdlog::info("tracking resumed: {} untracked frame(s) interpolated between the poses around the gap",
-                   poses.size() - 1);
-  };
+  TrajectoryRecord record({result.trajectory, result.keyframes_file, result.frames_file},
+                          config.tracking.bridge_max_frames);
 
   Progress progress(dataset.size(), options.progress);
   const auto start = std::chrono::steady_clock::now();
@@ -90,8 +121,23 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
 
   // On the optimisation thread, for every frame the stages got through.
   auto on_pose = [&](const OdometryPose& r) {
-    write_poses(gap_bridge.push({.timestamp_ns = r.timestamp_ns, .T_world_camera = r.T_world_camera, .tracked = r.tracked}));
-    if (r.keyframe) keyframes.write_ns(r.timestamp_ns, r.T_world_camera);
+    const PoseState state = r.state == FrameState::relocalised ? PoseState::relocalised
+                            : r.tracked                         ? PoseState::tracked
+                                                                : PoseState::lost;
+    const int bridged_before = record.frames_bridged();
+    record.add({.index = r.frame_index,
+                .timestamp_ns = r.timestamp_ns,
+                .T_world_camera = r.T_world_camera,
+                .state = state,
+                .segment = r.segment,
+                .keyframe = r.keyframe,
+                .point_inliers = r.tracked_points,
+                .line_inliers = r.tracked_lines,
+                .note = r.note},
+               r.merge);
+    if (const int bridged = record.frames_bridged(); bridged > bridged_before)
+      spdlog::info("tracking resumed: {} untracked frame(s) interpolated between the poses around the gap",
+                   bridged - bridged_before);
     ++result.frames;
     if (r.tracked)
       ++result.frames_tracked;
@@ -126,8 +172,13 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
     stream.finish();
     result.frames_skipped = unreadable + stream.failed();
   }
-  write_poses(gap_bridge.flush());  // a gap still open at the end keeps its predicted poses
-  result.frames_bridged = gap_bridge.frames_bridged();
+  result.frames_bridged = record.frames_bridged();
+  result.frames_uninitialised = static_cast<std::size_t>(
+      std::count_if(record.frames().begin(), record.frames().end(),
+                    [](const FrameRecord& f) { return f.state == PoseState::uninitialised; }));
+  std::vector<Eigen::Vector3d> centres;
+  for (const FrameRecord& f : record.frames())
+    if (f.state != PoseState::uninitialised) centres.push_back(f.T_world_camera.translation());
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   result.timing.merge(odometry.timing());  // the modules' samples; the run's own are the Frame ones
@@ -135,9 +186,14 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   result.keyframes = odometry.keyframes();
   result.tracking_losses = odometry.tracking_losses();
   result.segments = odometry.segments();
+  result.segments_started = odometry.segments_started();
+  result.relocalisations = odometry.relocalisations();
+  result.merges = odometry.merges();
   result.map_points = map.points().size();
   result.map_lines = map.lines().size();
   io::write_map_ply(options.output_dir / "map.ply", map_geometry(map, centres));
+  write_refined_keyframes(result.keyframes_refined_file, odometry, record);
+  result.evaluation = evaluate_outputs(dataset, result);
 
   nlohmann::json summary = options.extra_summary;
   summary["dataset"] = io::describe_dataset(dataset);
@@ -149,10 +205,24 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   summary["keyframes"] = result.keyframes;
   summary["tracking_losses"] = result.tracking_losses;
   summary["map_segments"] = result.segments;
+  summary["map_segments_started"] = result.segments_started;
+  summary["relocalisations"] = result.relocalisations;
+  summary["segment_merges"] = result.merges;
+  summary["frames_uninitialised"] = result.frames_uninitialised;
+  const auto& reloc = odometry.relocalisation_stats();
+  summary["relocalisation"] = {{"attempts", reloc.attempts},
+                               {"candidates_matched", reloc.candidates_matched},
+                               {"successes", reloc.successes},
+                               {"successes_by_appearance", reloc.successes_by_source[0]},
+                               {"successes_by_position", reloc.successes_by_source[1]},
+                               {"successes_by_recency", reloc.successes_by_source[2]}};
   summary["map"] = {{"points", result.map_points}, {"lines", result.map_lines}};
   summary["lines_enabled"] = config.tracking.use_lines;
   summary["timing"] = result.timing.to_json(result.frames, result.wall_seconds);
-  summary["outputs"] = {{"trajectory", result.trajectory.string()}, {"keyframes", result.keyframes_file.string()},
+  if (!result.evaluation.is_null()) summary["evaluation"] = result.evaluation;
+  summary["outputs"] = {{"trajectory", result.trajectory.string()}, {"frames", result.frames_file.string()},
+                        {"keyframes", result.keyframes_file.string()},
+                        {"keyframes_refined", result.keyframes_refined_file.string()},
                         {"map", (options.output_dir / "map.ply").string()}};
   io::write_json_file(result.summary, summary);
   return result;

@@ -20,7 +20,8 @@
 namespace vkvo::system {
 
 struct RunOptions {
-  std::filesystem::path output_dir;  // trajectory.txt, keyframes.txt, map.ply, summary.json
+  // trajectory.txt, frames.csv, keyframes.txt, keyframes_refined.txt, map.ply, summary.json
+  std::filesystem::path output_dir;
   bool realtime = false;             // play the sequence back at its recorded rate
   bool progress = true;              // progress bar on a terminal, log lines otherwise
   const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT) to end the run cleanly after the current frame
@@ -33,19 +34,29 @@ struct RunResult {
   std::size_t frames_tracked = 0;    // frames whose pose came from the optimisation (the rest: predicted)
   // Frames whose pose was predicted, as FrameInput::index: the position in the processed range, not in the dataset.
   std::vector<std::size_t> untracked_frames;
-  // Untracked frames whose written pose was interpolated across the gap once tracking resumed (GapBridge).
+  // Untracked frames whose written pose was interpolated across the gap once tracking resumed (TrajectoryRecord).
   int frames_bridged = 0;
+  std::size_t frames_uninitialised = 0;  // before the map first started: in frames.csv, not in the trajectory
   bool last_frame_tracked = false;
   int keyframes = 0;
   int tracking_losses = 0;
-  int segments = 0;
+  int segments = 0;           // map segments left at the end
+  int segments_started = 0;   // ... started during the run (the first included)
+  int relocalisations = 0;    // frames found in the map again after a loss, merges included
+  int merges = 0;             // young segments merged into older ones
   std::size_t map_points = 0, map_lines = 0;
   double wall_seconds = 0;
   TimingReport timing;
-  std::filesystem::path trajectory;  // TUM, cam0 poses (raw left camera), one line per processed frame; an
-                                     // untracked frame's line waits until its gap closes (GapBridge)
-  std::filesystem::path keyframes_file;
+  // TUM, cam0 poses (raw left camera), one line per processed frame from the first tracked one on; earlier lines
+  // are rewritten when a gap closes or a segment merges (TrajectoryRecord).
+  std::filesystem::path trajectory;
+  std::filesystem::path frames_file;  // frames.csv: per frame index, timestamp, state, segment, inliers
+  std::filesystem::path keyframes_file;          // keyframe poses as tracking made them (moved by merges)
+  std::filesystem::path keyframes_refined_file;  // keyframe poses after the last bundle adjustment (AirVO's output)
   std::filesystem::path summary;
+  // With ground truth beside the dataset: summary.json's "evaluation" (per-frame trajectory, split by frame state,
+  // and the refined keyframes); null without.
+  nlohmann::json evaluation;
 };
 
 // `feature_frontend` serves the feature stage, `stereo_frontend` the keyframes' right images (two instances so

@@ -117,10 +117,21 @@ OdometryPose StereoOdometry::optimise(const FrameInput& in) {
           .timestamp_ns = in.timestamp_ns,
           .T_world_camera = r.T_world_camera * T_rect_rawleft_,
           .tracked = r.tracked,
+          .state = r.state,
           .keyframe = r.keyframe,
           .new_segment = r.new_segment,
+          .segment = r.segment,
+          .merge = r.merge,
           .tracked_points = r.tracked_points,
-          .tracked_lines = r.tracked_lines};
+          .tracked_lines = r.tracked_lines,
+          .note = r.note};
+}
+
+std::vector<std::pair<std::size_t, Eigen::Isometry3d>> StereoOdometry::refined_keyframes() const {
+  std::vector<std::pair<std::size_t, Eigen::Isometry3d>> out;
+  for (const auto& [id, kf] : tracker_.map().keyframes())
+    out.emplace_back(static_cast<std::size_t>(kf.frame_id), kf.T_world_camera * T_rect_rawleft_);
+  return out;
 }
 
 OdometryPose StereoOdometry::track(const cv::Mat& left, const cv::Mat& right, std::int64_t timestamp_ns) {

@@ -10,6 +10,10 @@
 // be serial among themselves and in frame order, and the two may run concurrently.
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -31,9 +35,15 @@ struct OdometryPose {
   // The raw (unrectified) left camera, cam0, in the world frame: cam0 at the first frame.
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
   bool tracked = false;      // false: predicted at the last velocity (the frame could not be tracked)
+  FrameState state = FrameState::lost;  // tracked, relocalised or lost (= !tracked)
   bool keyframe = false;
   bool new_segment = false;  // the map (re)started here, after a tracking loss or at the first frame
+  int segment = 0;           // the map segment whose world frame the pose is in
+  // Set when this frame merged its segment into an older one: every earlier pose of segment `from` maps into the
+  // world by merge->T_into_from (a caller keeping poses updates them; run_vo rewrites its files).
+  std::optional<SegmentMerge> merge;
   int tracked_points = 0, tracked_lines = 0;
+  std::string note;          // why no keyframe was made, or what relocalisation did
 };
 
 class StereoOdometry {
@@ -62,7 +72,13 @@ class StereoOdometry {
   const TimingReport& timing() const { return timing_; }
   int keyframes() const { return tracker_.keyframes(); }
   int tracking_losses() const { return tracker_.tracking_losses(); }
-  int segments() const { return tracker_.segments(); }
+  int segments() const { return tracker_.segments(); }  // map segments now (after merges)
+  int segments_started() const { return tracker_.segments_started(); }
+  int relocalisations() const { return tracker_.relocalisations(); }
+  int merges() const { return tracker_.merges(); }
+  const RelocalisationStats& relocalisation_stats() const { return tracker_.relocalisation_stats(); }
+  // The map's keyframes as (frame index, raw left camera pose), in the state the last bundle adjustment left them.
+  std::vector<std::pair<std::size_t, Eigen::Isometry3d>> refined_keyframes() const;
 
  private:
   VoConfig config_;

@@ -16,6 +16,7 @@ const char* to_string(Module module) {
     case Module::LM: return "LM";
     case Module::IPE: return "IPE";
     case Module::BA: return "BA";
+    case Module::RL: return "RL";
     case Module::Frame: return "frame";
   }
   return "?";

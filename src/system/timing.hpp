@@ -1,7 +1,8 @@
 #pragma once
 // Per-module timing of a run, as in the paper's runtime table: PE point extraction, LE line extraction, PM point
 // matching, LM line association + matching, IPE initial pose estimation, BA keyframe processing (stereo
-// triangulation, map update) + local bundle adjustment. Every frame adds one sample per module it ran; a new
+// triangulation, map update) + local bundle adjustment, RL relocalisation (candidates, matching, PnP, refinement,
+// and a merge of map segments). Every frame adds one sample per module it ran; a new
 // keyframe adds one more to PE (its right image), PM (its stereo matches) and LE (its right-image lines).
 #include <array>
 #include <chrono>
@@ -12,9 +13,9 @@
 
 namespace vkvo::system {
 
-enum class Module { PE, LE, PM, LM, IPE, BA, Frame };
+enum class Module { PE, LE, PM, LM, IPE, BA, RL, Frame };
 inline constexpr std::array kModules = {Module::PE, Module::LE, Module::PM, Module::LM, Module::IPE, Module::BA,
-                                        Module::Frame};
+                                        Module::RL, Module::Frame};
 const char* to_string(Module module);
 
 struct ModuleStats {

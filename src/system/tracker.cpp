@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "backend/keyframe_decision.hpp"
@@ -14,21 +15,27 @@
 namespace vkvo::system {
 namespace {
 
-// A keyframe stores only the points of each line; the per-point side is derived.
-features::PointLineAssociation association_of(const map::Frame& frame) {
-  features::PointLineAssociation a;
-  a.points_of_line = frame.line_points;
-  a.points_of_line.resize(frame.lines.size());
-  a.lines_of_point.resize(frame.keypoints.size());
-  for (std::size_t l = 0; l < a.points_of_line.size(); ++l)
-    for (int p : a.points_of_line[l]) a.lines_of_point[static_cast<std::size_t>(p)].push_back(static_cast<int>(l));
-  return a;
-}
-
 bool usable(const map::MapPoint* p) { return p && !p->bad; }
 bool usable(const map::MapLine* l) { return l && !l->bad; }
 
+std::string describe_sources(unsigned sources) {
+  std::string text;
+  for (const auto& [bit, name] : {std::pair{kByAppearance, "appearance"}, std::pair{kByPosition, "position"},
+                                  std::pair{kByRecency, "recency"}})
+    if (sources & bit) text += text.empty() ? name : std::string("+") + name;
+  return text;
+}
+
 }  // namespace
+
+const char* to_string(FrameState state) {
+  switch (state) {
+    case FrameState::tracked: return "tracked";
+    case FrameState::relocalised: return "relocalised";
+    case FrameState::lost: return "lost";
+  }
+  return "?";
+}
 
 Tracker::Tracker(const VoConfig& config, const geometry::StereoCamera& stereo, PointFrontend& stereo_frontend,
                  const Eigen::Isometry3d& T_world_first)
@@ -37,6 +44,7 @@ Tracker::Tracker(const VoConfig& config, const geometry::StereoCamera& stereo, P
       frontend_(&stereo_frontend),
       right_line_detector_(config.lines.detector),
       T_world_first_(T_world_first),
+      relocaliser_(config.relocalisation, config.optimization, config.lines.matching, config.tracking.use_lines),
       T_world_last_(T_world_first) {
   if (config_.tracking.init_min_keypoints != config.tracking.init_min_keypoints ||
       config_.tracking.init_min_stereo != config.tracking.init_min_stereo)
@@ -52,17 +60,21 @@ MatchReference Tracker::reference() const {
   return reference_;
 }
 
-void Tracker::publish_reference(map::Id keyframe, const features::PointFeatures& features) {
-  auto shared = std::make_shared<const features::PointFeatures>(features);
+void Tracker::publish_reference(map::Id keyframe, std::shared_ptr<const features::PointFeatures> features) {
   std::lock_guard lock(reference_mutex_);
-  reference_ = {keyframe, std::move(shared)};
+  reference_ = {keyframe, std::move(features)};
 }
 
-Eigen::Isometry3d Tracker::predicted_pose() const {
+Eigen::Isometry3d Tracker::predicted_pose(double steps) const {
   // Constant velocity, carried on through untracked frames: a camera on a car or a drone keeps moving when the
   // image goes black, and standing still there costs a metre a frame on KITTI.
   if (!velocity_) return T_world_last_;
-  return T_world_last_ * *velocity_;
+  Eigen::AngleAxisd rotation(velocity_->linear());
+  rotation.angle() *= steps;
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  motion.linear() = rotation.toRotationMatrix();
+  motion.translation() = steps * velocity_->translation();
+  return T_world_last_ * motion;
 }
 
 Tracker::Tracked Tracker::make_frame(const FrameInput& input, const Eigen::Isometry3d& pose, TimingReport& timing) const {
@@ -87,34 +99,34 @@ Tracker::Tracked Tracker::make_frame(const FrameInput& input, const Eigen::Isome
   return t;
 }
 
-TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
+TrackResult Tracker::initialise(const FrameInput& input, Tracked& current, TimingReport& timing) {
   TrackResult result;
-  Tracked current = make_frame(input, predicted_pose(), timing);
-
-  if (!initialised_) {
-    current.frame.T_world_camera = T_world_last_;
-    if (add_keyframe(input, current, true, timing)) {
-      initialised_ = true;
-      ++segments_;
-      result.keyframe = result.new_segment = result.tracked = true;
-      spdlog::info("frame {}: map initialised with {} points, {} lines", input.index, map_.points().size(),
-                   map_.lines().size());
-    }
-    result.T_world_camera = current.frame.T_world_camera;
-    T_world_last_ = result.T_world_camera;
-    tracked_previous_ = result.tracked ? config_.keyframe.max_tracked : 0;
-    frames_since_keyframe_ = 0;
-    last_frame_ = std::move(current);
-    return result;
+  current.frame.T_world_camera = T_world_last_;
+  if (add_keyframe(input, current, true, timing)) {
+    initialised_ = true;
+    result.keyframe = result.new_segment = result.tracked = true;
+    result.state = FrameState::tracked;
+    spdlog::info("frame {}: map initialised with {} points, {} lines", input.index, map_.points().size(),
+                 map_.lines().size());
   }
+  result.segment = segment_;
+  result.T_world_camera = current.frame.T_world_camera;
+  T_world_last_ = result.T_world_camera;
+  tracked_previous_ = result.tracked ? config_.keyframe.max_tracked : 0;
+  frames_since_keyframe_ = 0;
+  last_frame_ = std::move(current);
+  return result;
+}
 
+Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tracked& current, TimingReport& timing) {
+  ReferenceTracking out;
   // The feature stage runs up to queue_capacity frames ahead, so it may have matched against a keyframe that is
   // no longer the last one (or one of an earlier map segment, or the previous frame while a keyframe was being
   // made). The landmarks of such a keyframe are stale: the newer keyframes hold the tracked points and map
   // culling removes the older keyframe's unconfirmed points. Match against the last keyframe here instead.
   const features::PointMatches* matches = &input.matches;
-  map::Id reference_keyframe = input.reference_keyframe;
-  bool matched_previous_frame = input.matched_previous_frame;
+  out.reference_keyframe = input.reference_keyframe;
+  out.matched_previous_frame = input.matched_previous_frame;
   features::PointMatches rematched;
   if (const MatchReference latest = reference();
       latest.features && latest.keyframe != map::kInvalidId && latest.keyframe != input.reference_keyframe) {
@@ -124,9 +136,9 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
     if (static_cast<int>(rematched.count()) >= config_.tracking.min_num_match ||
         rematched.count() > input.matches.count()) {
       matches = &rematched;
-      reference_keyframe = latest.keyframe;
-      matched_previous_frame = false;
-      result.rematched = true;
+      out.reference_keyframe = latest.keyframe;
+      out.matched_previous_frame = false;
+      out.rematched = true;
     }
   }
 
@@ -134,12 +146,13 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
   const map::Frame* reference = nullptr;
   features::PointLineAssociation keyframe_association;
   const features::PointLineAssociation* reference_association = nullptr;
-  if (const map::KeyFrame* kf = reference_keyframe != map::kInvalidId ? map_.keyframe(reference_keyframe) : nullptr) {
+  if (const map::KeyFrame* kf = out.reference_keyframe != map::kInvalidId ? map_.keyframe(out.reference_keyframe)
+                                                                          : nullptr) {
     reference = kf;
     current.reference_keyframe = kf->id;
     keyframe_association = association_of(*kf);
     reference_association = &keyframe_association;
-  } else if (matched_previous_frame && last_frame_) {
+  } else if (out.matched_previous_frame && last_frame_) {
     reference = &last_frame_->frame;
     reference_association = &last_frame_->association;
   }
@@ -152,7 +165,7 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
     const auto& m = matches->matches0;
     for (std::size_t i = 0; i < m.size(); ++i) {
       if (m[i] < 0) continue;
-      ++result.matches;
+      ++out.matches;
       const auto j = static_cast<std::size_t>(m[i]);
       if (j >= reference->point_ids.size()) continue;
       const map::Id id = reference->point_ids[j];
@@ -177,58 +190,257 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
       timing.add(Module::LM, watch.ms());
     }
   }
+  out.map_point_matches = static_cast<int>(point_matches.size());
 
   const Stopwatch ipe_watch;
   const auto estimate = backend::estimate_pose(stereo_, current.frame.T_world_camera, point_matches, line_matches,
                                                config_.optimization);
   timing.add(Module::IPE, ipe_watch.ms());
-  if (estimate.success) {
-    current.frame.T_world_camera = estimate.T_world_camera;
-    for (std::size_t k = 0; k < point_of_match.size(); ++k)
-      if (estimate.point_inliers[k]) current.frame.point_ids[point_of_match[k].first] = point_of_match[k].second;
-    for (std::size_t k = 0; k < line_of_match.size(); ++k)
-      if (estimate.line_inliers[k]) current.frame.line_ids[line_of_match[k].first] = line_of_match[k].second;
-    result.tracked = true;
+  out.success = estimate.success;
+  out.used_pnp = estimate.used_pnp;
+  out.T_world_camera = estimate.T_world_camera;
+  out.point_inliers = estimate.num_point_inliers;
+  out.line_inliers = estimate.num_line_inliers;
+  for (std::size_t k = 0; k < point_of_match.size(); ++k)
+    if (estimate.point_inliers[k]) out.points.push_back(point_of_match[k]);
+  for (std::size_t k = 0; k < line_of_match.size(); ++k)
+    if (estimate.line_inliers[k]) out.lines.push_back(line_of_match[k]);
+  return out;
+}
+
+std::optional<Relocalisation> Tracker::relocalise(const FrameInput& input, const Tracked& current, int exclude_segment,
+                                                  int max_candidates, TimingReport& timing) {
+  if (!config_.relocalisation.enabled || max_candidates <= 0) return std::nullopt;
+  const Stopwatch watch;
+  RelocalisationQuery query;
+  query.points = &input.points;
+  query.frame = &current.frame;
+  query.association = &current.association;
+  query.T_world_predicted = current.frame.T_world_camera;
+  query.exclude_segment = exclude_segment;
+  query.max_candidates = max_candidates;
+  // The frame's landmarks in its own segment (tracked ones, or a new segment's stereo points) for the reverse solve.
+  query.T_world_query = current.frame.T_world_camera;
+  query.keypoint_positions.resize(current.frame.point_ids.size());
+  for (std::size_t i = 0; i < current.frame.point_ids.size(); ++i)
+    if (const map::MapPoint* p = map_.point(current.frame.point_ids[i]); usable(p))
+      query.keypoint_positions[i] = p->position;
+  auto found = relocaliser_.relocalise(query, map_, stereo_, *frontend_);
+  timing.add(Module::RL, watch.ms());
+  return found;
+}
+
+void Tracker::apply_relocalisation(const Relocalisation& found, Tracked& current) const {
+  current.frame.T_world_camera = found.T_world_camera;
+  current.frame.reset_associations();
+  for (const auto& [keypoint, point] : found.points) current.frame.point_ids[keypoint] = point;
+  for (const auto& [line, map_line] : found.lines) current.frame.line_ids[line] = map_line;
+  current.reference_keyframe = found.keyframe;
+  current.reference_line_partner = found.line_partner;
+}
+
+SegmentMerge Tracker::merge_into(const Relocalisation& found, Tracked& current, TimingReport& timing) {
+  const Stopwatch watch;
+  // The younger segment (the higher id) moves into the older one's world, whichever of the two the frame is in.
+  const int found_segment = map_.keyframe(found.keyframe)->segment;
+  const Eigen::Isometry3d T_found_current = found.T_world_camera * current.frame.T_world_camera.inverse();
+  SegmentMerge merge;
+  if (found_segment < segment_) {
+    merge = {.from = segment_, .into = found_segment, .T_into_from = T_found_current};
+    current.frame.T_world_camera = found.T_world_camera;
+  } else {
+    merge = {.from = found_segment, .into = segment_, .T_into_from = T_found_current.inverse()};
   }
-  result.tracked_points = estimate.num_point_inliers;
-  result.tracked_lines = estimate.num_line_inliers;
+  map_.merge_segment(merge.from, merge.into, merge.T_into_from);
+  segment_ = merge.into;
+
+  // The frame's own landmarks that relocalisation found in the other segment are one landmark mapped twice: fuse
+  // them into the other one.
+  int fused_points = 0, fused_lines = 0;
+  for (const auto& [keypoint, old_point] : found.points) {
+    map::Id& id = current.frame.point_ids[keypoint];
+    if (id != map::kInvalidId && id != old_point && map_.point(id)) {
+      map_.fuse_point(id, old_point);
+      ++fused_points;
+    }
+    id = old_point;
+  }
+  for (const auto& [line, old_line] : found.lines) {
+    map::Id& id = current.frame.line_ids[line];
+    if (id != map::kInvalidId && id != old_line && map_.line(id)) {
+      map_.fuse_line(id, old_line);
+      ++fused_lines;
+    }
+    id = old_line;
+  }
+  // The pose from both sets of correspondences at once.
+  std::vector<backend::PointMatch> points;
+  std::vector<backend::LineMatch> lines;
+  for (std::size_t i = 0; i < current.frame.point_ids.size(); ++i)
+    if (const map::MapPoint* p = map_.point(current.frame.point_ids[i]); usable(p))
+      points.push_back({p->position, {current.frame.keypoints[i], -1.0}});
+  for (std::size_t l = 0; l < current.frame.line_ids.size(); ++l)
+    if (const map::MapLine* line = map_.line(current.frame.line_ids[l]); usable(line))
+      lines.push_back({line->line, {current.frame.lines[l].left, std::nullopt}});
+  const auto joint =
+      backend::estimate_pose(stereo_, current.frame.T_world_camera, points, lines, config_.optimization);
+  if (joint.success) current.frame.T_world_camera = joint.T_world_camera;
+  current.reference_keyframe = found.keyframe;
+  current.reference_line_partner = found.line_partner;
+  spdlog::info("frame {}: map segment {} merged into segment {} (keyframe {}, {} point / {} line inliers; moved "
+               "{:.3f} m, {:.2f} deg; fused {} points, {} lines)",
+               current.frame.frame_id, merge.from, merge.into, found.keyframe, found.points.size(), found.lines.size(),
+               merge.T_into_from.translation().norm(),
+               Eigen::AngleAxisd(merge.T_into_from.linear()).angle() * 180.0 / M_PI, fused_points, fused_lines);
+  timing.add(Module::RL, watch.ms());
+  return merge;
+}
+
+TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
+  // Frames since the previous one, in units of the usual frame interval (more than 1 when the input dropped some).
+  const double steps = last_timestamp_s_ && frame_interval_s_ > 0
+                           ? std::max(1.0, (input.timestamp_s - *last_timestamp_s_) / frame_interval_s_)
+                           : 1.0;
+  if (last_timestamp_s_ && input.timestamp_s > *last_timestamp_s_) {
+    const double dt = input.timestamp_s - *last_timestamp_s_;
+    // The usual interval, averaged over the intervals that are not drops of frames.
+    if (frame_interval_s_ <= 0)
+      frame_interval_s_ = dt;
+    else if (dt < 2 * frame_interval_s_)
+      frame_interval_s_ = 0.9 * frame_interval_s_ + 0.1 * dt;
+  }
+  last_timestamp_s_ = input.timestamp_s;
+  Tracked current = make_frame(input, predicted_pose(steps), timing);
+  if (!initialised_) return initialise(input, current, timing);
+
+  TrackResult result;
+  const ReferenceTracking reference = track_reference(input, current, timing);
+  result.matches = reference.matches;
+  result.rematched = reference.rematched;
+  // After a gap (frames lost, or missing from the input: a jump in time) the prior is a dead reckoning and the
+  // reference an old keyframe: the frame is relocalised as well, the better supported pose wins, and either has to
+  // pass what relocalisation asks of a pose.
+  const bool after_gap = lost_frames_ > 0 || steps > 3.0;
+  const int reference_inliers = reference.point_inliers + reference.line_inliers;
+  const bool relocalising = config_.relocalisation.enabled;
+  bool tracked = reference.success &&
+                 (!after_gap || !relocalising || reference_inliers >= config_.relocalisation.min_inliers);
+  std::optional<Relocalisation> found;
+  if (!tracked || after_gap) found = relocalise(input, current, -1, config_.relocalisation.max_candidates, timing);
+  if (found && tracked && found->inliers <= reference_inliers) found.reset();
+
+  bool force_keyframe = false;
+  if (found) {
+    apply_relocalisation(*found, current);
+    const int from = segment_;
+    segment_ = map_.keyframe(found->keyframe)->segment;
+    tracked = true;
+    ++relocalisations_;
+    result.state = FrameState::relocalised;
+    result.tracked_points = static_cast<int>(found->points.size());
+    result.tracked_lines = static_cast<int>(found->lines.size());
+    result.note = fmt::format("relocalised at keyframe {} ({})", found->keyframe, describe_sources(found->sources));
+    spdlog::info("frame {}: relocalised in segment {}{} at keyframe {} (by {}; {} of {} correspondences inliers, {} "
+                 "point / {} line inliers in the keyframe's map)",
+                 input.index, segment_, from != segment_ ? fmt::format(" (lost in segment {})", from) : "",
+                 found->keyframe, describe_sources(found->sources), found->inliers, found->matches,
+                 found->points.size(), found->lines.size());
+  } else if (tracked) {
+    current.frame.T_world_camera = reference.T_world_camera;
+    for (const auto& [keypoint, point] : reference.points) current.frame.point_ids[keypoint] = point;
+    for (const auto& [line, map_line] : reference.lines) current.frame.line_ids[line] = map_line;
+    result.state = FrameState::tracked;
+    result.tracked_points = reference.point_inliers;
+    result.tracked_lines = reference.line_inliers;
+  }
+  if (result.state == FrameState::tracked && map_.segments().size() > 1) {
+    // A tracked frame of a segment that has others beside it: look for the other map.
+    if (auto other = relocalise(input, current, segment_, config_.relocalisation.max_candidates_young, timing)) {
+      const Relocalisation& found = *other;
+      result.merge = merge_into(found, current, timing);
+      ++relocalisations_;
+      ++merges_;
+      force_keyframe = true;
+      result.state = FrameState::relocalised;
+      result.note = fmt::format("merged segment {} into {} at keyframe {} ({}{})", result.merge->from,
+                                result.merge->into, found.keyframe, describe_sources(found.sources),
+                                found.reverse ? ", from the frame's own points" : "");
+    }
+  }
 
   const map::KeyFrame* last_keyframe = map_.keyframe(map_.last_keyframe_id());
   const backend::KeyframeDecisionInput decision{
       .T_world_last_keyframe = last_keyframe ? last_keyframe->T_world_camera : T_world_first_,
       .T_world_current = current.frame.T_world_camera,
-      .tracked = result.tracked ? result.tracked_points : 0,
+      .tracked = tracked ? result.tracked_points : 0,
       .tracked_previous = tracked_previous_,
       .frames_since_keyframe = frames_since_keyframe_ + 1};
-  if (!result.tracked) {
+  if (!tracked) {
     ++losses_;
-    spdlog::warn("frame {}: tracking lost ({} matches, {} map points, {} point / {} line inliers); "
-                 "starting map segment {} at the predicted pose",
-                 input.index, result.matches, point_matches.size(), estimate.num_point_inliers,
-                 estimate.num_line_inliers, segments_ + 1);
+    spdlog::warn("frame {}: tracking lost ({} matches, {} map points, {} point / {} line inliers{}); no "
+                 "relocalisation; starting map segment {} at the predicted pose if the frame can carry one",
+                 input.index, result.matches, reference.map_point_matches, reference.point_inliers,
+                 reference.line_inliers,
+                 reference.success ? fmt::format(", below the {} asked after a loss", config_.relocalisation.min_inliers)
+                                   : "",
+                 segments_started_);
     current.frame.reset_associations();
+    const int previous_segment = segment_;
+    segment_ = segments_started_;
     if (add_keyframe(input, current, true, timing)) {
-      ++segments_;
-      result.keyframe = result.new_segment = true;
+      // The frame anchors the new segment: its pose is a prediction, but the segment's poses are exact relative to
+      // it, and a merge later moves it with them. Its own stereo points may find the old map at once.
+      result.keyframe = result.new_segment = tracked = true;
+      result.state = FrameState::tracked;
+      result.note = fmt::format("new map segment {}", segment_);
+      if (auto other = relocalise(input, current, segment_, config_.relocalisation.max_candidates_young, timing)) {
+        result.merge = merge_into(*other, current, timing);
+        ++relocalisations_;
+        ++merges_;
+        result.state = FrameState::relocalised;
+        result.note = fmt::format("new map segment {} merged into {} at keyframe {} ({}{})", result.merge->from,
+                                  result.merge->into, other->keyframe, describe_sources(other->sources),
+                                  other->reverse ? ", from its own stereo points" : "");
+        const map::Id kf = map_.last_keyframe_id();
+        map_.keyframe(kf)->T_world_camera = current.frame.T_world_camera;
+        backend::local_bundle_adjustment(map_, kf, stereo_, config_.optimization);
+        map_.cull(config_.map);
+        current.frame.T_world_camera = map_.keyframe(kf)->T_world_camera;
+      }
+    } else {
+      segment_ = previous_segment;
+      result.note = "no keyframe: too few keypoints or stereo points for a map segment";
     }
-  } else if (backend::need_new_keyframe(config_.keyframe, decision)) {
-    result.keyframe = add_keyframe(input, current, false, timing);
+  } else {
+    const backend::KeyframeReason reason = backend::keyframe_reason(config_.keyframe, decision);
+    if (force_keyframe || backend::need_new_keyframe(config_.keyframe, decision))
+      result.keyframe = add_keyframe(input, current, false, timing);
+    else if (reason == backend::KeyframeReason::tracking_failed && result.note.empty())
+      result.note = fmt::format("no keyframe: {} tracked points, fewer than {}", result.tracked_points,
+                                config_.keyframe.min_tracked);
   }
   frames_since_keyframe_ = result.keyframe ? 0 : frames_since_keyframe_ + 1;
-  spdlog::debug("frame {}: {} keypoints, {} matches to {} {} ({} with map points), {} point / {} line inliers{}{}{}",
+  spdlog::debug("frame {}: {} keypoints, {} matches to {} {} ({} with map points), {} point / {} line inliers{}{}{}{}",
                 input.index, input.points.size(), result.matches,
-                matched_previous_frame ? "previous frame" : result.rematched ? "(re-matched) keyframe" : "keyframe",
-                matched_previous_frame ? input.index - 1 : reference_keyframe, point_matches.size(),
-                estimate.num_point_inliers, estimate.num_line_inliers, estimate.used_pnp ? ", PnP" : "",
-                result.keyframe ? ", keyframe" : "", result.tracked ? "" : ", LOST");
+                reference.matched_previous_frame ? "previous frame"
+                : reference.rematched            ? "(re-matched) keyframe"
+                                                 : "keyframe",
+                reference.matched_previous_frame ? input.index - 1 : reference.reference_keyframe,
+                reference.map_point_matches, result.tracked_points, result.tracked_lines,
+                reference.used_pnp ? ", PnP" : "", result.keyframe ? ", keyframe" : "",
+                result.state == FrameState::relocalised ? ", RELOCALISED" : "", tracked ? "" : ", LOST");
 
   result.T_world_camera = current.frame.T_world_camera;
-  // Only a pair of well-tracked frames gives a velocity; a frame after a loss moves from a predicted pose.
+  result.segment = segment_;
+  // Only a pair of well-tracked frames gives a velocity; a frame after a loss moves from a predicted pose, and a
+  // merge moves the world under the previous pose.
   const int min_tracked = config_.keyframe.min_tracked;
-  if (result.tracked && result.tracked_points >= min_tracked && tracked_previous_ >= min_tracked)
+  if (result.state == FrameState::tracked && result.tracked_points >= min_tracked && tracked_previous_ >= min_tracked)
     velocity_ = T_world_last_.inverse() * result.T_world_camera;
+  result.tracked = tracked;
   T_world_last_ = result.T_world_camera;
-  tracked_previous_ = result.tracked ? result.tracked_points : 0;
+  tracked_previous_ = result.new_segment ? config_.keyframe.max_tracked : tracked ? result.tracked_points : 0;
+  lost_frames_ = tracked ? 0 : lost_frames_ + 1;
   last_frame_ = std::move(current);
   return result;
 }
@@ -277,7 +489,10 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     for (std::size_t l = 0; l < frame.lines.size(); ++l) frame.lines[l].right = stereo_lines.right[l];
   }
 
-  const map::Id kf_id = map_.add_keyframe(frame).id;
+  map::KeyFrame& added = map_.add_keyframe(frame);
+  added.segment = segment_;
+  const map::Id kf_id = added.id;
+  if (new_segment) ++segments_started_;
   const Eigen::Isometry3d T = map_.keyframe(kf_id)->T_world_camera;
   int new_points = 0;
   for (std::size_t i = 0; i < stereo_points.positions.size(); ++i) {
@@ -301,7 +516,9 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
                   ba.line_outliers, culled_points, culled_lines);
   }
   tracked.frame = *map_.keyframe(kf_id);  // BA may have moved it; associations now include the new landmarks
-  publish_reference(kf_id, input.points);
+  auto features = std::make_shared<const features::PointFeatures>(input.points);
+  relocaliser_.add_keyframe(kf_id, features);
+  publish_reference(kf_id, std::move(features));
   timing.add(Module::BA, keyframe_ms + watch.lap());
   return true;
 }

@@ -1,11 +1,18 @@
 #pragma once
 // The optimisation stage of the VO (paper Fig. 2, right): point-line association and line matching against the
 // reference, initial pose estimation, the keyframe decision, and for new keyframes the right-image features,
-// stereo matching, triangulation and local bundle adjustment. Tracking loss starts a new map segment at the
-// predicted pose, so the trajectory stays continuous and the run never stops on a hard frame.
+// stereo matching, triangulation and local bundle adjustment.
+//
+// Losing track is expected (a dark stretch, a covered lens); losing the map is not. After a loss every frame is
+// first relocalised against the whole map (Relocaliser). Only when that fails does a frame that can carry one start
+// a new map segment at the predicted pose, so that tracking goes on; every tracked frame of such a young segment
+// then tries to relocalise against the older segments, and the first success merges the young segment into the
+// old map (one rigid SE(3) transform: stereo has no scale drift), fuses the landmarks seen in both and runs a local
+// bundle adjustment over the seam.
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 
 #include <Eigen/Geometry>
 
@@ -15,19 +22,38 @@
 #include "map/map.hpp"
 #include "system/frame_input.hpp"
 #include "system/point_frontend.hpp"
+#include "system/relocaliser.hpp"
 #include "system/timing.hpp"
 #include "system/vo_config.hpp"
 
 namespace vkvo::system {
 
+// How a frame got its pose. (The pipeline adds `bridged` for untracked frames whose pose it interpolated.)
+enum class FrameState {
+  tracked,      // optimised against the map (or the start of a map segment)
+  relocalised,  // found in the map by relocalisation (after a loss, or merging a young segment)
+  lost,         // not tracked: the pose is a prediction
+};
+const char* to_string(FrameState state);
+
+// A young segment joined to an older one: poses of segment `from` map into the world of `into` by T_into_from.
+struct SegmentMerge {
+  int from = 0, into = 0;
+  Eigen::Isometry3d T_into_from = Eigen::Isometry3d::Identity();
+};
+
 struct TrackResult {
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // rectified left camera
-  bool tracked = false;        // pose from the optimisation (false: predicted)
+  FrameState state = FrameState::lost;
+  bool tracked = false;        // state != lost
   bool keyframe = false;
   bool new_segment = false;    // (re-)initialisation: a new map segment starts here
+  int segment = 0;             // the map segment whose world frame the pose is in
+  std::optional<SegmentMerge> merge;
   int tracked_points = 0, tracked_lines = 0;
   int matches = 0;             // point matches to the reference
   bool rematched = false;      // the feature stage's reference was stale: matched again to the last keyframe
+  std::string note;            // why a tracked frame made no keyframe, or what relocalisation did (status file)
 };
 
 // The keyframe the feature stage matches new frames against.
@@ -38,8 +64,8 @@ struct MatchReference {
 
 class Tracker {
  public:
-  // `stereo_frontend` runs the right-image network and the stereo matching of keyframes; `rig` gives the
-  // rectified stereo camera; `T_world_first` is the pose the first keyframe gets.
+  // `stereo_frontend` runs the right-image network and the stereo matching of keyframes (and the matching of
+  // relocalisation); `stereo` gives the rectified stereo camera; `T_world_first` is the pose the first keyframe gets.
   Tracker(const VoConfig& config, const geometry::StereoCamera& stereo, PointFrontend& stereo_frontend,
           const Eigen::Isometry3d& T_world_first = Eigen::Isometry3d::Identity());
 
@@ -50,8 +76,13 @@ class Tracker {
 
   const map::Map& map() const { return map_; }
   int keyframes() const { return static_cast<int>(map_.keyframes().size()); }
-  int segments() const { return segments_; }
+  int segments_started() const { return segments_started_; }
+  // Segments with keyframes now (after merges).
+  int segments() const { return static_cast<int>(map_.segments().size()); }
   int tracking_losses() const { return losses_; }
+  int relocalisations() const { return relocalisations_; }
+  int merges() const { return merges_; }
+  const RelocalisationStats& relocalisation_stats() const { return relocaliser_.stats(); }
 
  private:
   struct Tracked {
@@ -62,19 +93,38 @@ class Tracker {
     map::Id reference_keyframe = map::kInvalidId;
     std::vector<int> reference_line_partner;
   };
+  // Tracking against the reference: the estimate and which map landmark each inlier stands for.
+  struct ReferenceTracking {
+    bool success = false;
+    Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
+    std::vector<std::pair<int, map::Id>> points, lines;  // inliers: feature of the frame -> landmark
+    int point_inliers = 0, line_inliers = 0;
+    int matches = 0, map_point_matches = 0;
+    bool rematched = false, matched_previous_frame = false, used_pnp = false;
+    map::Id reference_keyframe = map::kInvalidId;
+  };
 
   Tracked make_frame(const FrameInput& input, const Eigen::Isometry3d& pose, TimingReport& timing) const;
+  TrackResult initialise(const FrameInput& input, Tracked& current, TimingReport& timing);
+  ReferenceTracking track_reference(const FrameInput& input, Tracked& current, TimingReport& timing);
+  std::optional<Relocalisation> relocalise(const FrameInput& input, const Tracked& current, int exclude_segment,
+                                           int max_candidates, TimingReport& timing);
+  void apply_relocalisation(const Relocalisation& found, Tracked& current) const;
+  // Joins the current (young) segment to the one `found` lies in; returns the merge for the caller's poses.
+  SegmentMerge merge_into(const Relocalisation& found, Tracked& current, TimingReport& timing);
   // Right-image features + stereo triangulation, then the keyframe with its new landmarks and a local BA.
   // With `new_segment`, refuses frames with too few keypoints/stereo matches (returns false).
   bool add_keyframe(const FrameInput& input, Tracked& tracked, bool new_segment, TimingReport& timing);
-  Eigen::Isometry3d predicted_pose() const;
-  void publish_reference(map::Id keyframe, const features::PointFeatures& features);
+  // The constant-velocity prediction `steps` frame intervals after the last frame.
+  Eigen::Isometry3d predicted_pose(double steps = 1.0) const;
+  void publish_reference(map::Id keyframe, std::shared_ptr<const features::PointFeatures> features);
 
   VoConfig config_;
   geometry::StereoCamera stereo_;
   PointFrontend* frontend_;
   features::LineDetector right_line_detector_;
   Eigen::Isometry3d T_world_first_;
+  Relocaliser relocaliser_;
 
   map::Map map_;
   bool initialised_ = false;
@@ -85,7 +135,11 @@ class Tracker {
   std::optional<Eigen::Isometry3d> velocity_;
   int tracked_previous_ = 0;
   int frames_since_keyframe_ = 0;
-  int segments_ = 0, losses_ = 0;
+  int lost_frames_ = 0;  // consecutive untracked frames just before this one
+  std::optional<double> last_timestamp_s_;
+  double frame_interval_s_ = 0;  // the input's usual time between frames
+  int segment_ = 0;      // the segment the current pose is in
+  int segments_started_ = 0, losses_ = 0, relocalisations_ = 0, merges_ = 0;
 
   mutable std::mutex reference_mutex_;
   MatchReference reference_;

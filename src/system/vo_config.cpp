@@ -30,6 +30,7 @@ VoConfig load_vo_config(const io::Config& config) {
   vo.optimization = backend::load_optimization_params(config.section("optimization"));
   vo.keyframe = backend::load_keyframe_params(config.section("keyframe"));
   vo.map = map::load_map_params(config.section("map"));
+  vo.relocalisation = load_relocalisation_params(config.section("relocalisation"));
   // Every section is parsed here, those of components a run may not use too (SuperGlue's under the NN matcher),
   // so that a wrong key or value stops the run before any work.
   vo.point_detector = features::load_superpoint_params(config.section("point_detector"));

@@ -15,6 +15,7 @@
 #include "io/config.hpp"
 #include "io/dataset.hpp"
 #include "map/map.hpp"
+#include "system/relocaliser.hpp"
 
 namespace vkvo::system {
 
@@ -29,9 +30,10 @@ struct TrackingParams {
   double reference_image_area = 752.0 * 480.0;
   bool use_lines = true;        // false: the paper's "w/o line" ablation
   int queue_capacity = 2;       // frames in flight between the feature and the optimisation stage
-  // Untracked frames held back (at most this many) until tracking resumes, then written interpolated between
-  // the tracked poses around them (GapBridge); 0 writes the constant-velocity predictions as they come.
-  int bridge_max_frames = 20;
+  // Gaps of at most this many untracked frames get poses interpolated between the tracked frames around them,
+  // matching the velocities at both ends (TrajectoryRecord); longer ones keep the constant-velocity predictions.
+  // 0 interpolates none.
+  int bridge_max_frames = 200;
 };
 TrackingParams load_tracking_params(const YAML::Node& section);
 
@@ -45,6 +47,7 @@ struct VoConfig {
   backend::OptimizationParams optimization;        // section optimization
   backend::KeyframeParams keyframe;                // section keyframe
   map::MapParams map;                              // section map
+  RelocalisationParams relocalisation;             // section relocalisation
   features::SuperPointParams point_detector;       // section point_detector
   features::SuperGlueParams point_matcher;         // section point_matcher
   features::NnMatcherParams nn_matcher;            // section nn_matcher: the mutual-nearest-neighbour fallback

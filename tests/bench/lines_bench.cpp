@@ -30,7 +30,7 @@ struct Frame {
 
 std::optional<fs::path> golden_dir() {
   if (const char* env = std::getenv("VKVO_DATA"); env && *env) return fs::path(env) / "golden";
-  for (fs::path p : {fs::path("../shared"), fs::path("../../shared"), fs::path("/work/shared")})
+  for (fs::path p : {fs::path("../shared"), fs::path("../../shared")})
     if (fs::exists(p / "golden/superpoint/euroc_0000/image.png")) return p / "golden";
   return std::nullopt;
 }

@@ -41,6 +41,12 @@ std::filesystem::path temp_dir(const std::string& tag) {
   return dir;
 }
 
+std::filesystem::path feature_cache_dir() {
+  const auto dir = std::filesystem::path(VKVO_TEST_SCRATCH_DIR) / "feature_cache";
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 void write_text(const std::filesystem::path& file, const std::string& text) {
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
   std::ofstream(file, std::ios::binary) << text;

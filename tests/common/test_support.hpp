@@ -18,6 +18,10 @@ std::filesystem::path source_dir();
 // A fresh, empty directory unique to the calling test, under the build tree (tests/scratch/).
 std::filesystem::path temp_dir(const std::string& tag);
 
+// A folder under the build tree that outlives the tests (never emptied by them): the data tests' SuperPoint
+// features, shared between their processes through system::FeatureCache.
+std::filesystem::path feature_cache_dir();
+
 // Writes `text` to `file` byte for byte, creating the parent directories.
 void write_text(const std::filesystem::path& file, const std::string& text);
 // The whole content of `file` (empty when it cannot be read).

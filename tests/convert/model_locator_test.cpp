@@ -53,13 +53,15 @@ TEST(ModelLocator, FoldersAreSearchedInOrderAPackBeforeAnOnnxFile) {
 }
 
 TEST(ModelLocator, DefaultSearchIsModelsThenTheCheckoutThenTheSharedData) {
-  const ScopedEnv models("VKVO_MODELS", "/opt/my-models"), data("VKVO_DATA", "/srv/vkvo-data");
-  const fs::path checkout = "/home/me/vkvo";
+  // Paths only: nothing is read, so the folders need not exist.
+  const fs::path root = fs::temp_directory_path() / "vkvo-model-search";
+  const fs::path my_models = root / "my-models", shared = root / "vkvo-data", checkout = root / "vkvo";
+  const ScopedEnv models("VKVO_MODELS", my_models.c_str()), data("VKVO_DATA", shared.c_str());
   const auto search = default_model_search(checkout);
   ASSERT_EQ(search.folders.size(), 5u);
-  EXPECT_EQ(search.folders[0].path, fs::path("/opt/my-models"));
+  EXPECT_EQ(search.folders[0].path, my_models);
   EXPECT_EQ(search.folders[1].path, checkout / "models");
-  EXPECT_EQ(search.folders[2].path, fs::path("/srv/vkvo-data") / "models");
+  EXPECT_EQ(search.folders[2].path, shared / "models");
   EXPECT_EQ(search.folders[3].path, fs::current_path() / ".." / "shared" / "models");
   EXPECT_EQ(search.folders[4].path, checkout / ".." / "shared" / "models");
 

@@ -2,7 +2,9 @@
 # WORK_DIR, then configures, builds and runs the project in consumer/ against that prefix alone. Fails (non-zero
 # exit of `cmake -P`) on the first step that does.
 #   cmake -DBUILD_DIR=... -DWORK_DIR=... -DGENERATOR=... -DCXX_COMPILER=... [-DCONFIG=...] [-DSANITIZE=...]
-#         -P run_consumer.cmake
+#         [-DPYTHON=... -DPYTHON_DIR=...] -P run_consumer.cmake
+# PYTHON, PYTHON_DIR: where the build has the Python module, the interpreter it is for and its install folder under
+# the prefix: that python then imports vkvo from the prefix alone and lists the devices through it.
 # SANITIZE: the build's VKVO_SANITIZE; its static libraries then need the sanitizer runtimes, so the consumer is
 # compiled and linked with the same -fsanitize= list.
 foreach(var BUILD_DIR WORK_DIR GENERATOR CXX_COMPILER)
@@ -42,4 +44,19 @@ step("run the consumer" ${consumer})
 message(STATUS "${step_output}")
 if(NOT step_output MATCHES "vkvo consumer: ok")
   message(FATAL_ERROR "install test: the consumer ran but did not report success:\n${step_output}")
+endif()
+
+if(PYTHON)
+  set(module_dir ${prefix}/${PYTHON_DIR})
+  step("import vkvo" ${CMAKE_COMMAND} -E env PYTHONPATH=${module_dir} PYTHONDONTWRITEBYTECODE=1
+       ${PYTHON} -s -c [[
+import pathlib, sys, vkvo
+where = pathlib.Path(vkvo.__file__).resolve()
+assert where.parent == pathlib.Path(sys.argv[1]).resolve(), f"vkvo imported from {where}"
+print(f"vkvo python: ok, {len(vkvo.devices())} device(s), from {where}")
+]] ${module_dir})
+  message(STATUS "${step_output}")
+  if(NOT step_output MATCHES "vkvo python: ok")
+    message(FATAL_ERROR "install test: python imported vkvo but did not report success:\n${step_output}")
+  endif()
 endif()

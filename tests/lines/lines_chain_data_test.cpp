@@ -149,7 +149,7 @@ TEST_F(LinesChainData, DenserSettingsStayEpipolarConsistent) {
   const ChainResult r = run_chain(params);
   EXPECT_GE(r.matched, 20);
   EXPECT_GE(r.consistent, 0.8 * r.matched) << r.consistent << " of " << r.matched << " pass the epipolar check";
-  // The check itself discriminates: wrong pairs (shifted by one) mostly fail it (measured: 7 of 34 pass).
+  // The check itself discriminates: wrong pairs (shifted by one) mostly fail it (docs/accuracy.md).
   EXPECT_LT(r.shuffled_consistent, 0.5 * r.matched);
 }
 

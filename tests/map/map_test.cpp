@@ -101,6 +101,63 @@ TEST(Map, CullingAndCovisibility) {
   expect_consistent(map);
 }
 
+// Merging segment 1 into segment 0 moves its keyframes, points and lines by the transform and nothing else.
+TEST(Map, MergeSegmentMovesItsKeyframesAndLandmarks) {
+  Map map;
+  Frame f = frame_with(2, 1);
+  f.T_world_camera.translation() = Eigen::Vector3d(1, 0, 0);
+  const Id old_kf = map.add_keyframe(f).id;
+  const Id old_point = map.add_point({0, 0, 5});
+  map.add_point_observation(old_point, old_kf, 0);
+  const Id young_kf = map.add_keyframe(f).id;
+  map.keyframe(young_kf)->segment = 1;
+  const Id young_point = map.add_point({0, 1, 5});
+  const Id young_line = map.add_line(geometry::PlueckerLine::from_points({0, 0, 4}, {1, 0, 4}));
+  map.line(young_line)->endpoints = std::make_pair(Eigen::Vector3d(0, 0, 4), Eigen::Vector3d(1, 0, 4));
+  map.add_point_observation(young_point, young_kf, 0);
+  map.add_line_observation(young_line, young_kf, 0);
+  EXPECT_EQ(map.segments(), (std::vector<int>{0, 1}));
+
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(0, 0, 1);
+  map.merge_segment(1, 0, T);
+  EXPECT_EQ(map.segments(), (std::vector<int>{0}));
+  EXPECT_TRUE(map.keyframe(young_kf)->T_world_camera.isApprox(T * f.T_world_camera, 1e-12));
+  EXPECT_TRUE(map.keyframe(old_kf)->T_world_camera.isApprox(f.T_world_camera, 1e-12));
+  EXPECT_TRUE(map.point(young_point)->position.isApprox(Eigen::Vector3d(-1, 0, 6), 1e-12));
+  EXPECT_TRUE(map.point(old_point)->position.isApprox(Eigen::Vector3d(0, 0, 5), 1e-12));
+  // The moved line passes through the moved points of the original and keeps |v| = 1.
+  const geometry::PlueckerLine& moved = map.line(young_line)->line;
+  EXPECT_NEAR(moved.distance_to(T * Eigen::Vector3d(0, 0, 4)), 0.0, 1e-12);
+  EXPECT_NEAR(moved.distance_to(T * Eigen::Vector3d(1, 0, 4)), 0.0, 1e-12);
+  EXPECT_NEAR(moved.v.norm(), 1.0, 1e-12);
+  EXPECT_TRUE(map.line(young_line)->endpoints->second.isApprox(T * Eigen::Vector3d(1, 0, 4), 1e-12));
+}
+
+// Fusing a landmark into another moves its observations; a keyframe that sees both keeps the target's.
+TEST(Map, FuseMovesObservationsToTheSurvivor) {
+  Map map;
+  const Id kf0 = map.add_keyframe(frame_with(3, 2)).id;
+  const Id kf1 = map.add_keyframe(frame_with(3, 2)).id;
+  const Id keep = map.add_point({0, 0, 5}), drop = map.add_point({0, 0, 5.01});
+  map.add_point_observation(keep, kf0, 0);
+  map.add_point_observation(drop, kf0, 1);  // kf0 sees both: keeps `keep` at feature 0
+  map.add_point_observation(drop, kf1, 2);
+  const Id line_keep = map.add_line(geometry::PlueckerLine::from_points({0, 0, 2}, {1, 0, 2}));
+  const Id line_drop = map.add_line(geometry::PlueckerLine::from_points({0, 0, 2}, {1, 0, 2}));
+  map.add_line_observation(line_drop, kf1, 1);
+  map.fuse_point(drop, keep);
+  map.fuse_line(line_drop, line_keep);
+  EXPECT_EQ(map.point(drop), nullptr);
+  EXPECT_EQ(map.line(line_drop), nullptr);
+  EXPECT_EQ(map.point(keep)->observations, (std::map<Id, int>{{kf0, 0}, {kf1, 2}}));
+  EXPECT_EQ(map.keyframe(kf0)->point_ids[1], kInvalidId);
+  EXPECT_EQ(map.keyframe(kf1)->point_ids[2], keep);
+  EXPECT_EQ(map.keyframe(kf1)->line_ids[1], line_keep);
+  expect_consistent(map);
+}
+
 TEST(Map, LoadParams) {
   const MapParams p = load_map_params(YAML::Load("{min_point_observations: 3}"));
   EXPECT_EQ(p.min_point_observations, 3);

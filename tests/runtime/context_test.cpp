@@ -25,24 +25,10 @@ TEST(Context, ListsAtLeastOneDeviceWithSaneCaps) {
   }
 }
 
-// The default precision by device kind, on described devices (no Vulkan needed): fp32 math everywhere, 16-bit
-// storage on GPUs that have it, fp16 math only when asked.
-TEST(DeviceCaps, PreferredPrecisionByDeviceKind) {
-  DeviceCaps gpu_caps{.type = "discrete", .float16_arithmetic = true, .storage_16bit = true};
-  EXPECT_EQ(gpu_caps.preferred_precision(), Precision::fp16s);
-  gpu_caps.storage_16bit = false;
-  EXPECT_EQ(gpu_caps.preferred_precision(), Precision::fp32) << "no 16-bit storage";
-  const DeviceCaps cpu_caps{.type = "cpu", .float16_arithmetic = true, .storage_16bit = true};
-  EXPECT_EQ(cpu_caps.preferred_precision(), Precision::fp32);
-}
-
 TEST(Context, SharedContextHasAPrecisionItSupports) {
   const auto& caps = test::gpu().caps();
   EXPECT_TRUE(caps.supports(Precision::fp32));
-  EXPECT_TRUE(caps.supports(caps.preferred_precision()));
-  if (caps.type == "cpu") {
-    EXPECT_EQ(caps.preferred_precision(), Precision::fp32) << "fp16 math is emulated on CPUs, fp16 storage gains nothing";
-  }
+  EXPECT_TRUE(caps.supports(test::gpu().profile().precision));
 }
 
 TEST(Context, SelectsDeviceByIndexAndByNameSubstring) {
@@ -70,11 +56,10 @@ TEST(Context, WithoutSixteenBitFeaturesOnlyFp32Runs) {
   EXPECT_TRUE(context.caps().supports(Precision::fp32));
   EXPECT_FALSE(context.caps().supports(Precision::fp16s));
   EXPECT_FALSE(context.caps().supports(Precision::fp16));
-  EXPECT_EQ(context.caps().preferred_precision(), Precision::fp32);
+  EXPECT_EQ(context.profile().precision, Precision::fp32);
   EXPECT_NO_THROW(context.caps().require(Precision::fp32, "test"));
   const std::string error = test::error_of([&] {
-    Kernel kernel(context, {.op = "gemm", .precision = Precision::fp16s, .bindings = 4, .written_bindings = 1u << 3,
-                            .push_constant_bytes = 4, .specialization = {}});
+    Kernel kernel(context, {.op = Op::gemm, .precision = Precision::fp16s});
   });
   EXPECT_NE(error.find("shader gemm: device '" + context.caps().name + "' does not support precision fp16s"),
             std::string::npos) << error;

@@ -338,11 +338,10 @@ TEST_P(Kernels, GemmTiledKernelMatchesReference) {
   }
 }
 
-// The wide tile is the automatic choice on CPU devices only (gemm_tiled_body.glsl says why).
-TEST(Gemm, AutomaticTileFollowsTheDeviceType) {
+// The automatic tile is the device profile's (wide on CPU devices: gemm_tiled.comp says why).
+TEST(Gemm, AutomaticTileFollowsTheDeviceProfile) {
   if (!tiled_kernels_available(gpu(), Precision::fp32)) GTEST_SKIP() << gpu().caps().name << " lacks the texel formats";
-  const bool cpu = gpu().caps().type == "cpu";
-  EXPECT_EQ(Gemm(gpu(), Precision::fp32).tiled_tile().cols, cpu ? 16u : 8u);
+  EXPECT_EQ(Gemm(gpu(), Precision::fp32).tiled_tile().cols, gpu().profile().wide_gemm_tile ? 16u : 8u);
   EXPECT_EQ(Gemm(gpu(), Precision::fp32, GemmKernel::tiled).tiled_tile().rows, 4u);
   EXPECT_EQ(Gemm(gpu(), Precision::fp32, GemmKernel::tiled_wide).tiled_tile().rows, 8u);
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "common/gpu.hpp"
+#include "common/test_support.hpp"
 #include "kernel_test_util.hpp"
 #include "runtime/context.hpp"
 #include "runtime/ops.hpp"
@@ -124,8 +125,7 @@ TEST(Sequence, DependentDispatchesSeeEachOthersResultsAndResubmitRepeats) {
 
 TEST(Sequence, WrongBindingCountIsRejected) {
   auto& ctx = gpu();
-  const Kernel kernel(ctx, {.op = "maxpool2x2", .precision = Precision::fp32, .bindings = 2,
-                            .written_bindings = 2, .push_constant_bytes = 20, .specialization = {}});
+  const Kernel kernel(ctx, {.op = Op::maxpool2x2, .precision = Precision::fp32});
   Buffer a(ctx, 64);
   Sequence seq(ctx);
   seq.begin();
@@ -134,13 +134,16 @@ TEST(Sequence, WrongBindingCountIsRejected) {
   seq.end();
 }
 
-TEST(Sequence, UnknownShaderIsAClearError) {
-  try {
-    const Kernel kernel(gpu(), {.op = "no_such_op", .precision = Precision::fp32, .bindings = 1, .written_bindings = 0, .push_constant_bytes = 0, .specialization = {}});
-    FAIL() << "expected an error";
-  } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("no_such_op"), std::string::npos);
-  }
+TEST(Sequence, WrongPushConstantSizeIsRejected) {
+  auto& ctx = gpu();
+  const Kernel kernel(ctx, {.op = Op::maxpool2x2, .precision = Precision::fp32});
+  Buffer a(ctx, 64), b(ctx, 64);
+  Sequence seq(ctx);
+  seq.begin();
+  const std::uint32_t push[4] = {};  // MaxPoolPush has 5 members
+  const std::string error = test::error_of([&] { seq.dispatch(kernel, {a, b}, push, Groups{1}); });
+  EXPECT_NE(error.find("kernel 'maxpool2x2' takes 20 push-constant bytes, 16 given"), std::string::npos) << error;
+  seq.end();
 }
 
 }  // namespace

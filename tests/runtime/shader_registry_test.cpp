@@ -1,4 +1,5 @@
-// The embedded SPIR-V: every op in every precision variant, and a portability rule the CI driver does not check.
+// The shader table as embedded: every op has the variants the table lists and only those, each a SPIR-V module
+// whose reflected interface the runtime relies on; and a portability rule the CI driver does not check.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -7,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/test_support.hpp"
+#include "runtime/push_constants.hpp"
 #include "runtime/shader_registry.hpp"
 
 namespace vkvo::rt {
@@ -36,16 +39,73 @@ BufferImages buffer_images(std::span<const std::uint32_t> words) {
   return images;
 }
 
-TEST(ShaderRegistry, EveryOpHasEveryPrecisionVariant) {
-  const auto ops = shader_ops();
-  ASSERT_GT(ops.size(), 20u);
-  for (const auto& op : ops)
-    for (const Precision precision : {Precision::fp32, Precision::fp16s, Precision::fp16}) {
-      const auto words = find_shader(op, precision);
-      ASSERT_GT(words.size(), kHeaderWords) << op;
-      EXPECT_EQ(words[0], kSpirvMagic) << op;
+TEST(ShaderRegistry, EveryOpHasExactlyTheVariantsOfTheTable) {
+  ASSERT_EQ(detail::op_table().size(), kOpCount);
+  std::size_t variants = 0;
+  for (std::size_t i = 0; i < kOpCount; ++i) {
+    const Op op = static_cast<Op>(i);
+    const OpInfo& info = op_info(op);
+    if (!info.per_precision()) {
+      const auto words = find_shader(op, std::nullopt).spirv();
+      ASSERT_GT(words.size(), kHeaderWords) << info.name;
+      EXPECT_EQ(words[0], kSpirvMagic) << info.name;
+      EXPECT_THROW(find_shader(op, Precision::fp32), std::invalid_argument) << info.name;
+      ++variants;
+      continue;
     }
-  EXPECT_THROW(find_shader("no_such_op", Precision::fp32), std::exception);
+    EXPECT_THROW(find_shader(op, std::nullopt), std::invalid_argument) << info.name;
+    for (const Precision p : kAllPrecisions) {
+      if (!info.compiled_for(p)) {
+        EXPECT_THROW(find_shader(op, p), std::invalid_argument) << info.name << " " << to_string(p);
+        continue;
+      }
+      const auto words = find_shader(op, p).spirv();
+      ASSERT_GT(words.size(), kHeaderWords) << info.name;
+      EXPECT_EQ(words[0], kSpirvMagic) << info.name;
+      ++variants;
+    }
+  }
+  EXPECT_EQ(variants, detail::embedded_shaders().size());
+}
+
+// Winograd's transforms need more than 16 bits (runtime/winograd.hpp): only their fp32 variant is built.
+TEST(ShaderRegistry, WinogradIsCompiledForFp32Only) {
+  EXPECT_TRUE(op_info(Op::winograd_f43_input).compiled_for(Precision::fp32));
+  EXPECT_FALSE(op_info(Op::winograd_f43_input).compiled_for(Precision::fp16s));
+  const std::string error = test::error_of([] { find_shader(Op::winograd_f63_output, Precision::fp16); });
+  EXPECT_NE(error.find("shader winograd_f63_output has no fp16 variant: the shader table compiles it for fp32 only"),
+            std::string::npos) << error;
+  EXPECT_EQ(op_info(Op::winograd_f43_input_wide).feature, ShaderFeature::int64);
+  EXPECT_EQ(op_info(Op::winograd_f43_input).feature, ShaderFeature::none);
+}
+
+// The interfaces the build reflected from the SPIR-V, for a few ops whose GLSL declares them plainly: the counts,
+// kinds and access the host once typed by hand.
+TEST(ShaderRegistry, ReflectedInterfacesMatchTheShaders) {
+  const ShaderInterface& gemm = *find_shader(Op::gemm_tiled, Precision::fp16s).interface;
+  ASSERT_EQ(gemm.binding_count, 4u);
+  EXPECT_EQ(gemm.bindings[0].kind, BindingKind::uniform_texel_buffer);  // A
+  EXPECT_EQ(gemm.bindings[1].kind, BindingKind::uniform_texel_buffer);  // B
+  EXPECT_EQ(gemm.bindings[2].kind, BindingKind::storage_buffer);        // bias, readonly
+  EXPECT_TRUE(gemm.bindings[2].read);
+  EXPECT_FALSE(gemm.bindings[2].write);
+  EXPECT_TRUE(gemm.bindings[3].read);  // C, read when accumulating
+  EXPECT_TRUE(gemm.bindings[3].write);
+  EXPECT_EQ(gemm.push_constant_bytes, sizeof(shader::GemmPush));
+  EXPECT_EQ(gemm.specialization_constants, 4u);
+
+  const ShaderInterface& sinkhorn = *find_shader(Op::superglue_sinkhorn, std::nullopt).interface;
+  ASSERT_EQ(sinkhorn.binding_count, 3u);
+  EXPECT_FALSE(sinkhorn.bindings[0].write);  // Z, readonly
+  EXPECT_TRUE(sinkhorn.bindings[1].write);   // u
+  EXPECT_TRUE(sinkhorn.bindings[2].write);   // v
+  EXPECT_EQ(sinkhorn.push_constant_bytes, sizeof(shader::SinkhornPush));
+
+  const ShaderInterface& mutual = *find_shader(Op::superglue_mutual, std::nullopt).interface;
+  ASSERT_EQ(mutual.binding_count, 4u);
+  EXPECT_FALSE(mutual.bindings[2].read);  // matches, writeonly
+  EXPECT_TRUE(mutual.bindings[2].write);
+  EXPECT_EQ(mutual.specialization_constants, 0u);
 }
 
 // Texel buffers must be read as images (textureBuffer), never through a sampled image of Dim Buffer
@@ -53,14 +113,13 @@ TEST(ShaderRegistry, EveryOpHasEveryPrecisionVariant) {
 // which fails every test under validation there, while Debian 12's Mesa 22.3 says nothing (shaders/include/
 // texel_buffer.glsl).
 TEST(ShaderRegistry, NoShaderReadsATexelBufferThroughASampler) {
-  std::size_t modules = 0, with_texel_buffers = 0;
+  std::size_t with_texel_buffers = 0;
   for (const auto& shader : detail::embedded_shaders()) {
-    const BufferImages images = buffer_images({shader.words, shader.word_count});
-    ++modules;
+    const BufferImages images = buffer_images(shader.spirv());
     with_texel_buffers += !images.declared.empty();
-    EXPECT_TRUE(images.sampled.empty()) << shader.op << " (" << shader.variant << ")";
+    EXPECT_TRUE(images.sampled.empty()) << to_string(shader.op) << " ("
+                                        << (shader.precision ? to_string(*shader.precision) : "any") << ")";
   }
-  EXPECT_EQ(modules, shader_ops().size() * 3);
   EXPECT_GT(with_texel_buffers, 30u) << "the check must see the texel-buffer kernels";
 }
 

@@ -33,9 +33,9 @@ struct WinogradCase {
 
 // The transforms are exact in exact arithmetic; in fp32 F(4x4, 3x3) scales intermediate values by up to 10 (B^T's
 // rows sum to 10 in absolute value) and its output transform's 8s amplify the products' rounding, so the error
-// bound is 2e-5 of the output scale, against the direct kernels' 1e-5 (kernel_test_util.hpp); measured here:
-// below 5e-6 of the scale (64 and 128 input channels). F(6x6, 3x3)'s constants are larger (B^T's rows sum to 12.5,
-// A^T has 32s): bound 4e-5 of the scale, measured below 7.1e-6 (128 input channels; F(4x4, 3x3) there: 3.7e-6).
+// bound is 2e-5 of the output scale, against the direct kernels' 1e-5 (kernel_test_util.hpp). F(6x6, 3x3)'s
+// constants are larger (B^T's rows sum to 12.5, A^T has 32s): bound 4e-5 of the scale. What both measure here:
+// docs/accuracy.md.
 float winograd_tolerance(const std::vector<float>& reference, Tile tile) {
   float scale = 0;
   for (float r : reference) scale = std::max(scale, std::abs(r));

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include "io/model_pack.hpp"
+#include "runtime/tensor_layout.hpp"
 
 namespace vkvo::features::reference {
 
@@ -180,6 +182,37 @@ inline Keypoints postprocess(const Dense& d, float threshold, int radius, int bo
     k.descriptors.push_back(sample_descriptor(d.descriptors, d.cells_h, d.cells_w, x, y, dim));
   }
   return k;
+}
+
+// A SuperPoint-shaped pack with He-initialised random weights (activations stay O(1) through the 10 layers).
+inline io::ModelPack random_superpoint_pack(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  io::ModelPackWriter writer(io::NetworkKind::superpoint);
+  struct Layer {
+    const char* name;
+    int in, out, k;
+  };
+  const Layer layers[] = {{"conv1a", 1, 64, 3},    {"conv1b", 64, 64, 3},   {"conv2a", 64, 64, 3},
+                          {"conv2b", 64, 64, 3},   {"conv3a", 64, 128, 3},  {"conv3b", 128, 128, 3},
+                          {"conv4a", 128, 128, 3}, {"conv4b", 128, 128, 3}, {"convPa", 128, 256, 3},
+                          {"convPb", 256, 65, 1},  {"convDa", 128, 256, 3}, {"convDb", 256, 256, 1}};
+  for (const auto& l : layers) {
+    std::normal_distribution<float> w_dist(0.0f, std::sqrt(2.0f / float(l.in * l.k * l.k)));
+    std::uniform_real_distribution<float> b_dist(-0.1f, 0.1f);
+    std::vector<float> w(std::size_t(l.out) * l.in * l.k * l.k), b(l.out);
+    for (auto& v : w) v = w_dist(rng);
+    for (auto& v : b) v = b_dist(rng);
+    // The detector logits get a wider spread so that the softmax is peaked, as in the trained network.
+    if (std::string(l.name) == "convPb")
+      for (auto& v : w) v *= 4.0f;
+    writer.add_tensor(std::string(l.name) + ".weight", {l.out, l.in, l.k, l.k}, "o4",
+                      rt::pack_conv_o4(w, l.out, l.in, l.k, l.k));
+    writer.add_tensor(std::string(l.name) + ".bias", {l.out}, "o4", rt::pad_bias_o4(b));
+  }
+  writer.set_number("descriptor_dim", 256);
+  writer.set_number("detector_channels", 65);
+  const auto bytes = writer.serialize();
+  return io::ModelPack::parse(bytes, io::NetworkKind::superpoint, "random weights");
 }
 
 }  // namespace vkvo::features::reference

@@ -125,7 +125,7 @@ TEST(Pipeline, BlackFramesAreBridgedOnceTrackingResumes) {
   EXPECT_EQ(result.untracked_frames, (std::vector<std::size_t>{14, 15, 16}));
   EXPECT_EQ(result.frames_bridged, 3);
   EXPECT_TRUE(result.last_frame_tracked);
-  // Interpolating over 4 frames of this smooth path: within 1 cm (the tracked frames: 2 mm).
+  // Interpolating over 4 frames of this smooth path: within 1 cm (what the tracked frames reach: docs/accuracy.md).
   expect_trajectory_near_truth(result.trajectory, scene, kFrames, 1e-2);
   std::ifstream summary_file(result.summary);
   EXPECT_EQ(nlohmann::json::parse(summary_file)["frames_bridged"], 3);

@@ -1,5 +1,6 @@
 // The optimisation stage on an exact synthetic stereo scene (oracle features, no GPU): initialisation, tracking,
-// keyframes, recovery from frames where nothing is seen, and the motion prior through them.
+// keyframes, recovery from frames where nothing is seen, the motion prior through them, relocalisation and the
+// merge of a young map segment into the old map.
 #include <gtest/gtest.h>
 
 #include "system/oracle_frontend.hpp"
@@ -31,10 +32,11 @@ FrameInput make_input(test::OracleFrontend& oracle, int frame, const MatchRefere
 
 // A points-only tracker started at the true first pose of a synthetic scene, fed by the oracle front end.
 struct OracleRun {
-  OracleRun(int frames, int points, std::uint32_t scene_seed, double pixel_noise, std::uint32_t oracle_seed)
+  OracleRun(int frames, int points, std::uint32_t scene_seed, double pixel_noise, std::uint32_t oracle_seed,
+            const VoConfig& config = points_only_config())
       : scene(test::SyntheticScene::make(frames, points, scene_seed)),
         oracle(scene, pixel_noise, oracle_seed),
-        tracker(points_only_config(), scene.stereo, oracle, scene.T_world_left[0]) {}
+        tracker(config, scene.stereo, oracle, scene.T_world_left[0]) {}
 
   FrameInput input(int frame) { return make_input(oracle, frame, tracker.reference()); }
   TrackResult track(const FrameInput& in) { return tracker.track(in, timing); }
@@ -124,25 +126,152 @@ TEST(Tracker, BlackFramesArePredictedAtTheLastVelocity) {
   EXPECT_EQ(run.tracker.tracking_losses(), 3);
 }
 
-// When the map cannot be matched (here: no matches at all), the tracker starts a new map segment at the
-// predicted pose from the frame's own stereo pair: the trajectory stays continuous and tracking goes on.
-TEST(Tracker, UnmatchableFrameStartsANewSegmentAtThePredictedPose) {
+// When the reference keyframe cannot be matched (here: the feature stage's matches are lost), relocalisation finds
+// the frame in the map from its own matches to the map's keyframes: no new segment, the pose as exact as tracking.
+TEST(Tracker, UnmatchableReferenceIsRelocalisedInTheMap) {
   OracleRun run(30, 500, 17, 0.0, 4);
   for (int f = 0; f < 30; ++f) {
     FrameInput in = run.input(f);
     if (f == 12) in.matches = {};
     const auto r = run.track(in);
-    if (f == 12) {
-      EXPECT_FALSE(r.tracked);
-      EXPECT_TRUE(r.new_segment);
-    } else {
-      EXPECT_TRUE(r.tracked) << "frame " << f;
-    }
+    EXPECT_TRUE(r.tracked) << "frame " << f;
+    EXPECT_EQ(r.state, f == 12 ? FrameState::relocalised : FrameState::tracked) << "frame " << f;
+    EXPECT_LT(run.position_error(r, f), 1e-3) << "frame " << f;
+  }
+  EXPECT_EQ(run.tracker.tracking_losses(), 0);
+  EXPECT_EQ(run.tracker.relocalisations(), 1);
+  EXPECT_EQ(run.tracker.segments(), 1);
+  EXPECT_GT(run.timing.stats(Module::RL).samples, 0u);
+}
+
+// Without relocalisation, an unmatchable frame starts a new map segment at the predicted pose from its own stereo
+// pair: the trajectory stays continuous and tracking goes on.
+TEST(Tracker, WithoutRelocalisationAnUnmatchableFrameStartsANewSegment) {
+  VoConfig config = points_only_config();
+  config.relocalisation.enabled = false;
+  OracleRun run(30, 500, 17, 0.0, 4, config);
+  for (int f = 0; f < 30; ++f) {
+    FrameInput in = run.input(f);
+    if (f == 12) in.matches = {};
+    const auto r = run.track(in);
+    // The frame that starts the new segment anchors it: tracked there, at the predicted pose.
+    EXPECT_TRUE(r.tracked) << "frame " << f;
+    EXPECT_EQ(r.new_segment, f == 0 || f == 12) << "frame " << f;
+    EXPECT_EQ(r.segment, f < 12 ? 0 : 1) << "frame " << f;
     // Constant-velocity prediction over one frame of this smooth path is good to a few millimetres.
     EXPECT_LT(run.position_error(r, f), 0.02) << "frame " << f;
   }
   EXPECT_EQ(run.tracker.tracking_losses(), 1);
   EXPECT_EQ(run.tracker.segments(), 2);
+  EXPECT_EQ(run.tracker.relocalisations(), 0);
+}
+
+// A kidnap: frames 20-39 never reach the tracker, so frame 40 appears 0.3 m and several degrees from where the
+// motion prior puts it, beyond what tracking against the last keyframe with that prior recovers on its own only by
+// chance. Relocalisation puts it back in the same map.
+TEST(Tracker, KidnappedCameraIsRelocalisedInTheSameMap) {
+  OracleRun run(60, 600, 19, 0.0, 5);
+  for (int f = 0; f < 60; ++f) {
+    if (f >= 20 && f < 40) continue;
+    FrameInput in = run.input(f);
+    if (f == 40) in.matches = {};  // the feature stage matched a stale reference: nothing usable
+    const auto r = run.track(in);
+    EXPECT_TRUE(r.tracked) << "frame " << f;
+    EXPECT_LT(run.position_error(r, f), 1e-3) << "frame " << f;
+    if (f == 40) {
+      EXPECT_EQ(r.state, FrameState::relocalised);
+    }
+  }
+  EXPECT_EQ(run.tracker.segments(), 1);
+  EXPECT_EQ(run.tracker.segments_started(), 1);
+}
+
+// Matches between a frame of the "dark" stretch's far side and the map made before it are refused while `blocked`
+// is set (the frames' indices ride in the oracle features' one-column descriptors), as when the scene looks too
+// different to match at first.
+class BlockingFrontend : public PointFrontend {
+ public:
+  explicit BlockingFrontend(PointFrontend& inner) : inner_(&inner) {}
+  // Tags the features with the frame of the image (the oracle writes it in the image's first row).
+  features::PointFeatures detect(const cv::Mat& gray) override {
+    features::PointFeatures f = inner_->detect(gray);
+    f.descriptors.setConstant(static_cast<float>(gray.at<unsigned char>(0, 1) + 256 * gray.at<unsigned char>(0, 2)));
+    return f;
+  }
+  features::PointMatches match(const features::PointFeatures& a, const features::PointFeatures& b) override {
+    features::PointMatches m = inner_->match(a, b);
+    if (blocked && frame_of(a) >= after && frame_of(b) < before) {
+      m.matches0.assign(a.size(), -1);
+      m.scores0.assign(a.size(), 0.0f);
+    }
+    return m;
+  }
+  static int frame_of(const features::PointFeatures& f) {
+    return f.descriptors.size() ? static_cast<int>(f.descriptors(0, 0)) : -1;
+  }
+  bool blocked = true;
+  int before = 0, after = 0;
+
+ private:
+  PointFrontend* inner_;
+};
+
+// Lights off for frames 14-20; at 21 the map cannot be matched at first (BlockingFrontend), so a young segment
+// starts at the predicted pose, a few centimetres off. From frame 26 the old map matches again: the first tracked
+// frame there merges the young segment into the old map, and every later pose, and every keyframe of the young
+// segment, is back within millimetres of the truth.
+TEST(Tracker, YoungSegmentMergesIntoTheOldMap) {
+  const auto scene = test::SyntheticScene::make(45, 600, 23);
+  test::OracleFrontend oracle(scene, 0.0, 6);
+  BlockingFrontend frontend(oracle);
+  frontend.before = 14;
+  frontend.after = 21;
+  Tracker tracker(points_only_config(), scene.stereo, frontend, scene.T_world_left[0]);
+  TimingReport timing;
+  std::optional<SegmentMerge> merge;
+  for (int f = 0; f < 45; ++f) {
+    frontend.blocked = f < 26;
+    const bool dark = f >= 14 && f <= 20;
+    FrameInput in;
+    in.index = static_cast<std::size_t>(f);
+    in.timestamp_s = 0.05 * f;
+    in.left = dark ? cv::Mat(480, 752, CV_8UC1, cv::Scalar(0)) : oracle.image(f, false);
+    in.right = dark ? cv::Mat(480, 752, CV_8UC1, cv::Scalar(0)) : oracle.image(f, true);
+    in.points = frontend.detect(in.left);
+    if (const MatchReference reference = tracker.reference(); reference.features) {
+      in.matches = frontend.match(in.points, *reference.features);
+      in.reference_keyframe = reference.keyframe;
+    }
+    const auto r = tracker.track(in, timing);
+    const double error = (r.T_world_camera.translation() - scene.T_world_left[f].translation()).norm();
+    EXPECT_EQ(r.tracked, !dark) << "frame " << f;
+    if (f == 21) {
+      EXPECT_TRUE(r.new_segment);
+      EXPECT_EQ(r.segment, 1);
+      EXPECT_GT(error, 0.005) << "the young segment starts at a prediction";
+    }
+    if (r.merge) {
+      EXPECT_EQ(f, 26);
+      EXPECT_EQ(r.state, FrameState::relocalised);
+      EXPECT_EQ(r.merge->from, 1);
+      EXPECT_EQ(r.merge->into, 0);
+      merge = r.merge;
+    }
+    if (f >= 26) {
+      EXPECT_EQ(r.segment, 0) << "frame " << f;
+      EXPECT_LT(error, 2e-3) << "frame " << f;
+    }
+  }
+  ASSERT_TRUE(merge.has_value());
+  EXPECT_EQ(tracker.segments(), 1);
+  EXPECT_EQ(tracker.segments_started(), 2);
+  EXPECT_EQ(tracker.merges(), 1);
+  for (const auto& [id, kf] : tracker.map().keyframes()) {
+    EXPECT_EQ(kf.segment, 0) << "keyframe " << id;
+    const auto frame = static_cast<std::size_t>(kf.frame_id);
+    EXPECT_LT((kf.T_world_camera.translation() - scene.T_world_left[frame].translation()).norm(), 2e-3)
+        << "keyframe " << id << " (frame " << frame << ")";
+  }
 }
 
 }  // namespace

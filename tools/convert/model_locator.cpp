@@ -76,4 +76,24 @@ std::string superpoint_help() {
          "superpoint_v1.onnx --out models/superpoint_v1.vkvopack` (models/README.md).";
 }
 
+VoModels load_vo_models(const fs::path& superpoint, const fs::path& superglue, bool use_superglue,
+                        const ModelSearch& search) {
+  VoModels models;
+  auto superpoint_file = locate_model("superpoint_v1", superpoint, search);
+  if (!superpoint_file) throw std::runtime_error(superpoint_help());
+  spdlog::info("SuperPoint: {} [{}]", superpoint_file->pack.string(), superpoint_file->how);
+  models.superpoint = io::ModelPack::load(superpoint_file->pack, io::NetworkKind::superpoint);
+  models.superpoint_file = std::move(*superpoint_file);
+  if (!use_superglue) return models;
+  if (superglue.empty()) {
+    spdlog::warn("no SuperGlue pack configured (models.superglue / --superglue): matching with the "
+                 "mutual-nearest-neighbour matcher");
+    return models;
+  }
+  models.superglue_file = locate_model("superglue", superglue, search);  // an explicit path: found or thrown
+  spdlog::info("SuperGlue: {} [{}]", models.superglue_file->pack.string(), models.superglue_file->how);
+  models.superglue = io::ModelPack::load(models.superglue_file->pack, io::NetworkKind::superglue);
+  return models;
+}
+
 }  // namespace vkvo::convert

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "io/model_pack.hpp"
+
 namespace vkvo::convert {
 
 struct LocatedModel {
@@ -37,5 +39,18 @@ std::optional<LocatedModel> locate_model(const std::string& stem, const std::fil
 
 // How to obtain and convert the official SuperPoint weights (printed when no pack is found).
 std::string superpoint_help();
+
+// The packs the VO runs with (`vkvo run`, and the Python Odometry and run): SuperPoint from `superpoint` (a pack
+// or ONNX file; empty: "superpoint_v1" searched in `search`), and, when `use_superglue`, SuperGlue from
+// `superglue` (empty: none, and the VO matches with the mutual-nearest-neighbour matcher, which is logged).
+// Throws superpoint_help() when no SuperPoint is found, and naming the file when one cannot be used.
+struct VoModels {
+  io::ModelPack superpoint;
+  std::optional<io::ModelPack> superglue;
+  LocatedModel superpoint_file;
+  std::optional<LocatedModel> superglue_file;
+};
+VoModels load_vo_models(const std::filesystem::path& superpoint, const std::filesystem::path& superglue,
+                        bool use_superglue, const ModelSearch& search);
 
 }  // namespace vkvo::convert

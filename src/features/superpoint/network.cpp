@@ -11,54 +11,31 @@
 #include "features/superpoint.hpp"
 #include "runtime/context.hpp"
 #include "runtime/half.hpp"
+#include "runtime/push_constants.hpp"
 #include "runtime/tensor_layout.hpp"
 
 namespace vkvo::features {
 namespace {
 
-// Push-constant blocks, mirroring the shaders.
-struct InputPush {
-  std::uint32_t width, height;
-};
-struct HeadPush {
-  std::uint32_t in_channels, cells_h, cells_w;
-};
-struct NormPush {
-  std::uint32_t channels, cells;
-};
-struct RowPush {
-  std::uint32_t width, height, radius;
-};
-struct ColPush {
-  std::uint32_t width, height, radius, border;
-  float threshold;
-  std::uint32_t capacity;
-};
-struct RankPush {
-  std::uint32_t capacity, max_keypoints;
-};
-struct SamplePush {
-  std::uint32_t cells_h, cells_w, dim, capacity, max_keypoints;
-};
+using shader::DetectorHeadPush;
+using shader::ImageInputPush;
+using shader::L2NormPush;
+using shader::NmsColumnsPush;
+using shader::NmsRowsPush;
+using shader::RankPush;
+using shader::SamplePush;
 
-rt::KernelSpec spec(const char* op, rt::Precision precision, std::uint32_t bindings, std::uint32_t written,
-                    std::uint32_t push_bytes, std::vector<std::uint32_t> specialization = {}) {
-  return {.op = op, .precision = precision, .bindings = bindings, .written_bindings = written,
-          .push_constant_bytes = push_bytes, .specialization = std::move(specialization)};
-}
-
-rt::Kernel rowmax_kernel(const rt::Context& ctx, rt::Precision p, bool texel) {
+rt::Kernel rowmax_kernel(const rt::Context& ctx, bool texel) {
   // Bindings: 0 the map, 1 the row maxima.
-  auto s = spec(texel ? "superpoint_nms_rowmax_tiled" : "superpoint_nms_rowmax", p, 2, 1u << 1, sizeof(RowPush));
+  rt::KernelSpec s{.op = texel ? rt::Op::superpoint_nms_rowmax_tiled : rt::Op::superpoint_nms_rowmax};
   if (texel) s.texel_formats = {rt::vec4_texel_format(rt::Precision::fp32)};
   return rt::Kernel(ctx, std::move(s));
 }
 
-rt::Kernel colmax_kernel(const rt::Context& ctx, rt::Precision p, bool texel, std::uint32_t stage) {
+rt::Kernel colmax_kernel(const rt::Context& ctx, bool texel, std::uint32_t stage) {
   // Bindings: 0 rows, 1 scores, 2 max_mask, 3 supp_scores, 4 supp, 5 candidates, 6 counter.
-  constexpr std::uint32_t kWritten[4] = {1u << 2, (1u << 3) | (1u << 4), 1u << 2, (1u << 2) | (1u << 5) | (1u << 6)};
-  auto s = spec(texel ? "superpoint_nms_colmax_tiled" : "superpoint_nms_colmax", p, 7, kWritten[stage],
-                sizeof(ColPush), {stage});
+  rt::KernelSpec s{.op = texel ? rt::Op::superpoint_nms_colmax_tiled : rt::Op::superpoint_nms_colmax,
+                   .specialization = {stage}};
   if (texel) s.texel_formats = {rt::vec4_texel_format(rt::Precision::fp32), rt::vec4_texel_format(rt::Precision::fp32)};
   return rt::Kernel(ctx, std::move(s));
 }
@@ -87,10 +64,10 @@ SuperPointConv find_conv(const io::ModelPack& pack, SuperPointLayer layer, rt::P
 
 }  // namespace
 
-NmsKernels::NmsKernels(const rt::Context& ctx, rt::Precision p, bool texel)
-    : rowmax(rowmax_kernel(ctx, p, texel)),
-      colmax{colmax_kernel(ctx, p, texel, 0), colmax_kernel(ctx, p, texel, 1), colmax_kernel(ctx, p, texel, 2),
-             colmax_kernel(ctx, p, texel, 3)} {}
+NmsKernels::NmsKernels(const rt::Context& ctx, bool texel)
+    : rowmax(rowmax_kernel(ctx, texel)),
+      colmax{colmax_kernel(ctx, texel, 0), colmax_kernel(ctx, texel, 1), colmax_kernel(ctx, texel, 2),
+             colmax_kernel(ctx, texel, 3)} {}
 
 SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack& pack, rt::Precision p, bool tiled,
                                      SuperPointParams::Winograd winograd_choice,
@@ -99,19 +76,19 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
       block(ctx, std::max<std::size_t>(pack.data_block().size(), 16), rt::BufferKind::device, "superpoint.weights"),
       conv3x3(ctx, p, 3, tiled ? rt::Conv3x3Kernel::automatic : rt::Conv3x3Kernel::direct),
       conv1x1(ctx, p, 1, tiled ? rt::Conv3x3Kernel::automatic : rt::Conv3x3Kernel::direct),
-      input(ctx, spec("superpoint_input", p, 2, 1u << 1, sizeof(InputPush))),
-      detector_head(ctx, spec("superpoint_detector_head", p, 4, 1u << 3, sizeof(HeadPush))),
-      l2norm(ctx, spec("superpoint_l2norm", p, 2, 1u << 1, sizeof(NormPush))),
-      rank(ctx, spec("superpoint_rank", p, 3, 1u << 2, sizeof(RankPush))),
-      sample(ctx, spec("superpoint_sample", p, 7, (1u << 4) | (1u << 5) | (1u << 6), sizeof(SamplePush))),
-      nms(ctx, p, false),
+      input(ctx, {.op = rt::Op::superpoint_input, .precision = p}),
+      detector_head(ctx, {.op = rt::Op::superpoint_detector_head, .precision = p}),
+      l2norm(ctx, {.op = rt::Op::superpoint_l2norm, .precision = p}),
+      rank(ctx, {.op = rt::Op::superpoint_rank}),
+      sample(ctx, {.op = rt::Op::superpoint_sample}),
+      nms(ctx, false),
       max_texel_elements(ctx.caps().max_texel_buffer_elements) {
   if (tiled && rt::tiled_kernels_available(ctx, p)) {
-    rt::KernelSpec head = spec("superpoint_detector_head_tiled", p, 4, 1u << 3, sizeof(HeadPush));
-    head.texel_formats = {rt::activation_texel_format(p), rt::conv_weight_texel_format(p)};
-    detector_head_tiled.emplace(ctx, std::move(head));
+    detector_head_tiled.emplace(ctx, rt::KernelSpec{.op = rt::Op::superpoint_detector_head_tiled, .precision = p,
+                                                    .texel_formats = {rt::activation_texel_format(p),
+                                                                      rt::conv_weight_texel_format(p)}});
     conv_pool.emplace(ctx, p);
-    nms_tiled.emplace(ctx, p, true);
+    nms_tiled.emplace(ctx, true);
   } else {
     pool.emplace(ctx, p);
   }
@@ -120,9 +97,8 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
   block.upload(pack.data_block().data(), pack.data_block().size());
 
   // The input plane holds the pixel values 0-255, exact at every storage precision, and SuperPoint's 1/255 is
-  // folded into conv1a's weights here: with 16-bit activations and fp32 weights, pixel / 255 rounded to 16 bits
-  // puts the golden crops' dense scores 2.0-4.9e-3 off the reference, exact pixels 0.8-1.2e-3 (float64
-  // simulation, tools/superpoint_fp16_error.py; fp16s measures 1.0-1.7e-3 on the crops and at full size).
+  // folded into conv1a's weights here: with 16-bit activations, pixel / 255 rounded to 16 bits costs the dense
+  // scores more than twice the error of exact pixels (docs/performance-history.md, "SuperPoint").
   {
     const SuperPointConv& first = convs[conv1a];
     std::vector<float> w = pack.floats(first.name + ".weight", io::DType::fp32);
@@ -131,14 +107,13 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
     rescaled_weights.upload(ctx, "superpoint.conv1a_weights");
   }
 
-  // 1x1 layers as GEMMs on CPU devices (rt::conv1x1_gemm_shape): convDb at 640x480 takes 68-78 ms in
-  // conv1x1_tiled.comp, which reads one pixel per texel fetch, and 29-33 ms as a tiled GEMM (`vkvo bench --kernels
-  // --filter 256`, three alternating runs on 2 Zen 3 cores). GPUs keep conv1x1_tiled: on an H200 the two ran alike
-  // (conv1x1 256->256 @80x60 0.078 ms, gemm 256x4800x256 0.076 ms, fp32 kernel table). The GEMM reads
+  // 1x1 layers as GEMMs where the device profile says (rt::conv1x1_gemm_shape): on CPU devices conv1x1_tiled.comp
+  // reads one pixel per texel fetch, the tiled GEMM 4 (docs/performance-history.md, "SuperPoint"). The GEMM reads
   // the weights as an O x I matrix, so those layers get a row-major copy. Its two operands share one texel
   // format, so where the weights are stored wider than the activations (fp16s, rt::conv_weight_precision) the
   // 1x1 layers stay on the convolution kernels.
-  if (tiled && rt::tiled_kernels_available(ctx, p) && ctx.caps().type == "cpu" && rt::conv_weight_precision(p) == p) {
+  if (tiled && rt::tiled_kernels_available(ctx, p) && ctx.profile().conv1x1_as_gemm &&
+      rt::conv_weight_precision(p) == p) {
     for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
       const SuperPointConv& c = convs[i];
       if (c.kernel != 1) continue;
@@ -150,13 +125,10 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
     conv1x1_gemm.emplace(ctx, p);
   }
 
-  // Winograd is fp32 only (runtime/winograd.hpp); `automatic` takes it where it measured faster: on lavapipe
-  // (2 Zen 3 cores) SuperPoint 640x480 ran in 1.72-1.88 s with the direct tiled kernels and 1.19-1.55 s with
-  // Winograd (alternating runs). GPUs keep the direct kernels unless asked: on an H200 (fp32 kernel table)
-  // conv3x3+maxpool 64->64 @752x480 took 0.72 ms direct, 1.15 / 1.39 ms by F(4x4) / F(6x6); 128->256 @94x60 0.20 ms
-  // direct, 0.16 / 0.21 ms.
+  // Winograd is fp32 only (runtime/winograd.hpp); `automatic` takes it where the device profile says (CPU devices;
+  // GPUs run the direct kernels faster: docs/performance-history.md, "SuperPoint").
   const bool wanted = winograd_choice == SuperPointParams::Winograd::on ||
-                      (winograd_choice == SuperPointParams::Winograd::automatic && ctx.caps().type == "cpu");
+                      (winograd_choice == SuperPointParams::Winograd::automatic && ctx.profile().winograd);
   if (!wanted || p != rt::Precision::fp32 || !tiled || !rt::tiled_kernels_available(ctx, p)) return;
   winograd.emplace(ctx, p, winograd_tile);
   for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
@@ -285,18 +257,16 @@ rt::Buffer& SuperPointPlan::activation(const rt::ActivationShape& shape, const s
   activations_.emplace_back(context_, rt::activation_bytes(shape, net_.precision), rt::BufferKind::device,
                             "superpoint." + name);
   activations_.back().fill_zero();  // the zero border is never written by the kernels
-  shapes_.push_back(shape);
   return activations_.back();
 }
 
 void SuperPointPlan::record() {
-  activations_.reserve(32);  // 16 are used; references into the vector must stay valid
   seq_.begin();
   seq_.fill_zero(counter_, "clear counter");
 
   rt::ActivationShape shape{1, height_, width_, 1};
   const rt::Buffer* x = &activation(shape, "input");
-  seq_.dispatch(net_.input, {image_, *x}, InputPush{width_, height_},
+  seq_.dispatch(net_.input, {image_, *x}, ImageInputPush{width_, height_},
                 {rt::groups_for(std::size_t(width_) * height_, 64)}, "input");
 
   // Encoder: four levels of two 3x3 conv + ReLU, a 2x2 max-pool between levels.
@@ -356,7 +326,7 @@ void SuperPointPlan::record() {
   const auto [pa, pa_shape] = conv(convPa, *x, shape, 0, true);
   const std::uint32_t cells = cells_h_ * cells_w_;
   // The tiled head computes 4 cells per invocation and steps 4 input channels at a time.
-  const HeadPush head{pa_shape.channels, cells_h_, cells_w_};
+  const DetectorHeadPush head{pa_shape.channels, cells_h_, cells_w_};
   const bool tiled_head =
       net_.detector_head_tiled && pa_shape.channels % 4 == 0 && pa_shape.elements() <= net_.max_texel_elements;
   seq_.dispatch(tiled_head ? *net_.detector_head_tiled : net_.detector_head,
@@ -365,7 +335,7 @@ void SuperPointPlan::record() {
   // Descriptor head: convDa + ReLU, convDb, L2 normalisation.
   const auto [da, da_shape] = conv(convDa, *x, shape, 0, true);
   const auto [db, db_shape] = conv(convDb, *da, da_shape, 0, false);
-  seq_.dispatch(net_.l2norm, {*db, dense_descriptors_}, NormPush{db_shape.channels, cells},
+  seq_.dispatch(net_.l2norm, {*db, dense_descriptors_}, L2NormPush{db_shape.channels, cells},
                 {rt::groups_for(cells, 64)}, "descriptor l2norm");
 
   // NMS (two suppression rounds), selection, top-k, sampling. 4 pixels per invocation: w8 is a multiple of 8.
@@ -373,8 +343,8 @@ void SuperPointPlan::record() {
   const std::size_t map_vec4s = std::size_t(w8) * h8 / 4;
   const NmsKernels& nms = net_.nms_tiled && map_vec4s <= net_.max_texel_elements ? *net_.nms_tiled : net_.nms;
   const rt::Groups pixel_groups{rt::groups_for(map_vec4s, 64)};
-  const RowPush row_push{w8, h8, radius_};
-  const ColPush col_push{w8, h8, radius_, border_, threshold_, capacity_};
+  const NmsRowsPush row_push{w8, h8, radius_};
+  const NmsColumnsPush col_push{w8, h8, radius_, border_, threshold_, capacity_};
   const auto colmax = [&](int stage, const char* label) {
     seq_.dispatch(nms.colmax[stage], {rows_, dense_scores_, mask_, supp_scores_, supp_, candidates_, counter_},
                   col_push, pixel_groups, label);

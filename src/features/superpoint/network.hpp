@@ -3,6 +3,7 @@
 // (activation buffers + the recorded sequence).
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <span>
 #include <string>
@@ -30,7 +31,7 @@ struct SuperPointConv {
 // the suppression steps, stages 0..3.
 struct NmsKernels {
   // `texel`: read the maps through RGBA32F texel views (the _tiled shaders) instead of storage buffers.
-  NmsKernels(const rt::Context& context, rt::Precision precision, bool texel);
+  NmsKernels(const rt::Context& context, bool texel);
   rt::Kernel rowmax;
   std::array<rt::Kernel, 4> colmax;
 };
@@ -120,8 +121,7 @@ class SuperPointPlan {
   std::uint32_t width_, height_, cells_h_, cells_w_, dim_;
   std::uint32_t radius_, border_, capacity_, max_keypoints_;
   float threshold_;
-  std::vector<rt::Buffer> activations_;
-  std::vector<rt::ActivationShape> shapes_;
+  std::deque<rt::Buffer> activations_;  // a deque: record() holds references to earlier ones as it adds more
   rt::Buffer image_, dense_scores_, rows_, mask_, supp_scores_, supp_, candidates_, counter_, order_;
   rt::Buffer dense_descriptors_, keypoints_, scores_, descriptors_;
   // Scratch of the Winograd layers (transformed input, GEMM products), sized for the largest; empty without.

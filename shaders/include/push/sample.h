@@ -1,0 +1,17 @@
+// Push constants: SuperPoint's keypoint outputs and descriptor sampling (superpoint_sample.comp).
+// Common subset of GLSL and C++ (common.h).
+#ifndef VKVO_PUSH_SAMPLE_H
+#define VKVO_PUSH_SAMPLE_H
+#include "common.h"
+VKVO_SHADER_NAMESPACE_BEGIN
+
+VKVO_PUSH_CONSTANTS(SamplePush) {
+  uint cells_h;
+  uint cells_w;
+  uint dim;
+  uint capacity;
+  uint max_keypoints;
+} VKVO_PUSH_INSTANCE;
+
+VKVO_SHADER_NAMESPACE_END
+#endif

@@ -1,0 +1,71 @@
+#pragma once
+// The robustness benchmark: one sequence run clean and under a fixed set of photometric events (made with
+// synth::perturb_sequence, so everything but the affected pixels is the original), each run evaluated against the
+// sequence's ground truth. It answers what vkvo promises: does the VO stay on one map, and how much accuracy does
+// each event cost. Run through `vkvo robustness`; the frontends are shared between the runs, so with a
+// system::CachedFrontend the network runs only on the images an event changed.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "system/point_frontend.hpp"
+#include "system/vo_config.hpp"
+#include "tools/synth/illumination.hpp"
+
+namespace vkvo::robustness {
+
+struct Scenario {
+  std::string name;         // short, for tables and folder names
+  std::string description;
+  std::vector<synth::IlluminationEvent> events;  // none: the clean run
+  double noise_sigma = 0;   // Gaussian read noise (DN) on the affected frames
+  // Frames with no usable light (0-based, inclusive), when the scenario has such a stretch: its frames are the
+  // ones expected to be lost, reported apart.
+  std::optional<std::pair<int, int>> dark;
+};
+
+// The fixed set for a sequence of `frames` frames at `rate_hz`, centred on its middle: clean; lights off for 0.5,
+// 1 and 2 s at 0 % and at 3 % of the light with 2 DN of noise; a slow dimming to 10 % (from a quarter to half of
+// the sequence, then staying there); gamma flicker (0.5 / 2.0 on alternate frames) over the middle half; the right
+// camera at 40 % exposure throughout; an exposure step to 35 % for both cameras from the middle on. Lights-off
+// stretches longer than a third of the sequence are left out.
+std::vector<Scenario> standard_scenarios(int frames, double rate_hz);
+// The scenarios whose names are listed (all when `names` is empty); throws naming an unknown one.
+std::vector<Scenario> select_scenarios(const std::vector<Scenario>& all, const std::vector<std::string>& names);
+
+struct ScenarioResult {
+  std::string scenario;
+  bool lines = true;
+  std::size_t frames = 0, frames_untracked = 0, frames_bridged = 0;
+  int segments = 0, relocalisations = 0, merges = 0;
+  double ate_m = 0;           // every frame
+  double ate_measured_m = 0;  // tracked and relocalised frames (aligned on them)
+  double ate_gap_m = 0;       // bridged frames, under that alignment (0 when none)
+  double ate_keyframes_m = 0; // refined keyframes
+  double frames_per_second = 0;
+  std::string error;          // the run or its evaluation failed: what happened
+};
+
+struct BenchmarkOptions {
+  std::filesystem::path out_dir;
+  bool ablate_lines = false;     // every scenario also without lines
+  bool keep_sequences = false;   // keep the perturbed copies (they are large)
+};
+
+// Runs every scenario (the first should be the clean one: ratios are to it) and writes out_dir/<scenario>[-nolines]/
+// (the run's outputs), robustness.md (the table), robustness.json and robustness.png (top views of each run against
+// the ground truth).
+std::vector<ScenarioResult> run_benchmark(const std::filesystem::path& dataset, const system::VoConfig& config,
+                                          const std::vector<Scenario>& scenarios,
+                                          system::PointFrontend& feature_frontend,
+                                          system::PointFrontend& stereo_frontend, const BenchmarkOptions& options);
+
+// The Markdown table: per scenario ATE, ratio to the clean run, ATE of the tracked frames and of the gap, untracked
+// frames, segments at the end, relocalisations (and with ablate_lines, the same without lines and the lines' gain).
+std::string format_table(const std::vector<ScenarioResult>& results);
+nlohmann::json to_json(const std::vector<ScenarioResult>& results);
+
+}  // namespace vkvo::robustness
