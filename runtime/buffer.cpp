@@ -11,8 +11,7 @@ namespace {
 
 constexpr vk::BufferUsageFlags kUsage = vk::BufferUsageFlagBits::eStorageBuffer |
                                         vk::BufferUsageFlagBits::eUniformTexelBuffer |
-                                        vk::BufferUsageFlagBits::eTransferSrc |
-                                        vk::BufferUsageFlagBits::eTransferDst;
+                                        vk::BufferUsageFlagBits::eTransferSrc | vk::BufferUsageFlagBits::eTransferDst;
 
 void check_range(const Buffer& buffer, std::size_t bytes, std::size_t offset, const char* what) {
   if (offset + bytes > buffer.size())
@@ -26,7 +25,8 @@ Buffer::Buffer(const Context& context, std::size_t bytes, BufferKind kind, std::
     : context_(&context), bytes_(bytes), name_(std::move(name)) {
   // Vulkan forbids zero-sized buffers; empty tensors (0 keypoints) still get a valid binding.
   const std::size_t alloc_bytes = std::max<std::size_t>(bytes, 16);
-  buffer_ = context.device().createBuffer({.size = alloc_bytes, .usage = kUsage, .sharingMode = vk::SharingMode::eExclusive});
+  buffer_ =
+      context.device().createBuffer({.size = alloc_bytes, .usage = kUsage, .sharingMode = vk::SharingMode::eExclusive});
   const auto requirements = buffer_.getMemoryRequirements();
 
   using M = vk::MemoryPropertyFlagBits;

@@ -18,8 +18,8 @@ namespace vkvo::rt {
 class Context;
 
 enum class BufferKind {
-  device,    // read and written by shaders; host access through staging unless the device is UMA
-  staging,   // host-visible, mapped: inputs written by the host each frame and copied in by a Sequence
+  device,   // read and written by shaders; host access through staging unless the device is UMA
+  staging,  // host-visible, mapped: inputs written by the host each frame and copied in by a Sequence
 };
 
 class Buffer {

@@ -18,8 +18,7 @@ std::atomic<std::uint64_t> g_validation_messages{0};
 
 VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                      VkDebugUtilsMessageTypeFlagsEXT /*types*/,
-                                                     const VkDebugUtilsMessengerCallbackDataEXT* data,
-                                                     void* /*user*/) {
+                                                     const VkDebugUtilsMessengerCallbackDataEXT* data, void* /*user*/) {
   if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
     ++g_validation_messages;
     spdlog::error("Vulkan validation: {}", data->pMessage ? data->pMessage : "(no message)");
@@ -65,7 +64,8 @@ std::optional<std::uint32_t> compute_queue_family(const vk::raii::PhysicalDevice
   const auto families = device.getQueueFamilyProperties();
   // Prefer a compute queue without graphics (dedicated compute engines run beside rendering), else any.
   for (std::uint32_t i = 0; i < families.size(); ++i)
-    if ((families[i].queueFlags & vk::QueueFlagBits::eCompute) && !(families[i].queueFlags & vk::QueueFlagBits::eGraphics))
+    if ((families[i].queueFlags & vk::QueueFlagBits::eCompute) &&
+        !(families[i].queueFlags & vk::QueueFlagBits::eGraphics))
       return i;
   for (std::uint32_t i = 0; i < families.size(); ++i)
     if (families[i].queueFlags & vk::QueueFlagBits::eCompute) return i;
@@ -118,8 +118,8 @@ DeviceCaps query_caps(const vk::raii::PhysicalDevice& device, std::uint32_t inde
   }
 
   if (const auto family = compute_queue_family(device)) {
-    caps.timestamps = props.limits.timestampComputeAndGraphics ||
-                      device.getQueueFamilyProperties()[*family].timestampValidBits > 0;
+    caps.timestamps =
+        props.limits.timestampComputeAndGraphics || device.getQueueFamilyProperties()[*family].timestampValidBits > 0;
   }
 
   const auto memory = device.getMemoryProperties();
@@ -159,9 +159,13 @@ vk::raii::Instance create_instance(const vk::raii::Context& loader, bool& valida
       extensions.push_back(VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);  // MoltenVK and other layered drivers
       flags |= vk::InstanceCreateFlagBits::eEnumeratePortabilityKHR;
     }
-  const vk::ApplicationInfo app{.pApplicationName = "vkvo", .applicationVersion = 1, .pEngineName = "vkvo",
-                                .engineVersion = 1, .apiVersion = VK_API_VERSION_1_1};
-  const vk::InstanceCreateInfo info{.flags = flags, .pApplicationInfo = &app,
+  const vk::ApplicationInfo app{.pApplicationName = "vkvo",
+                                .applicationVersion = 1,
+                                .pEngineName = "vkvo",
+                                .engineVersion = 1,
+                                .apiVersion = VK_API_VERSION_1_1};
+  const vk::InstanceCreateInfo info{.flags = flags,
+                                    .pApplicationInfo = &app,
                                     .enabledLayerCount = static_cast<std::uint32_t>(layers.size()),
                                     .ppEnabledLayerNames = layers.data(),
                                     .enabledExtensionCount = static_cast<std::uint32_t>(extensions.size()),
@@ -178,8 +182,9 @@ std::vector<DeviceCaps> list_devices_of(const vk::raii::Instance& instance) {
 
 std::uint32_t choose_device(const std::vector<DeviceCaps>& devices, const std::string& selector) {
   if (devices.empty())
-    throw VulkanError("no Vulkan device found: install a Vulkan driver (on a CPU-only machine "
-                      "`apt-get install mesa-vulkan-drivers` provides lavapipe)");
+    throw VulkanError(
+        "no Vulkan device found: install a Vulkan driver (on a CPU-only machine "
+        "`apt-get install mesa-vulkan-drivers` provides lavapipe)");
   if (!selector.empty()) {
     if (std::all_of(selector.begin(), selector.end(), [](unsigned char c) { return std::isdigit(c); })) {
       const auto index = static_cast<std::uint32_t>(std::stoul(selector));
@@ -193,9 +198,11 @@ std::uint32_t choose_device(const std::vector<DeviceCaps>& devices, const std::s
     for (const auto& d : devices) names += fmt::format(" [{}] {}", d.index, d.name);
     throw VulkanError(fmt::format("no Vulkan device matches '{}'; devices:{}", selector, names));
   }
-  return std::max_element(devices.begin(), devices.end(), [](const DeviceCaps& a, const DeviceCaps& b) {
-           return device_type_rank(a.type) < device_type_rank(b.type);
-         })->index;
+  return std::max_element(devices.begin(), devices.end(),
+                          [](const DeviceCaps& a, const DeviceCaps& b) {
+                            return device_type_rank(a.type) < device_type_rank(b.type);
+                          })
+      ->index;
 }
 
 std::filesystem::path default_cache_dir() {
@@ -217,13 +224,15 @@ auto guarded(const char* what, F&& f) {
   try {
     return f();
   } catch (const vk::SystemError& e) {
-    throw VulkanError(fmt::format("{} failed: {} (is a Vulkan driver installed? `vulkaninfo --summary` "
-                                  "lists what the loader sees)", what, e.what()));
+    throw VulkanError(
+        fmt::format("{} failed: {} (is a Vulkan driver installed? `vulkaninfo --summary` "
+                    "lists what the loader sees)",
+                    what, e.what()));
   } catch (const VulkanError&) {
     throw;
   } catch (const std::exception& e) {
-    throw VulkanError(fmt::format("{} failed: {} (install libvulkan1 and a driver, e.g. mesa-vulkan-drivers)",
-                                  what, e.what()));
+    throw VulkanError(
+        fmt::format("{} failed: {} (install libvulkan1 and a driver, e.g. mesa-vulkan-drivers)", what, e.what()));
   }
 }
 
@@ -267,10 +276,9 @@ Context::Context(const ContextOptions& options)
   if (validation_enabled_) {
     using S = vk::DebugUtilsMessageSeverityFlagBitsEXT;
     using T = vk::DebugUtilsMessageTypeFlagBitsEXT;
-    messenger_ = instance_.createDebugUtilsMessengerEXT(
-        {.messageSeverity = S::eWarning | S::eError,
-         .messageType = T::eGeneral | T::eValidation | T::ePerformance,
-         .pfnUserCallback = &on_validation_message});
+    messenger_ = instance_.createDebugUtilsMessengerEXT({.messageSeverity = S::eWarning | S::eError,
+                                                         .messageType = T::eGeneral | T::eValidation | T::ePerformance,
+                                                         .pfnUserCallback = &on_validation_message});
   }
 
   const auto devices = guarded("enumerating Vulkan devices", [&] { return list_devices_of(instance_); });
@@ -299,17 +307,18 @@ Context::Context(const ContextOptions& options)
   vk::PhysicalDeviceShaderFloat16Int8Features f16i8{.pNext = caps_.storage_8bit ? &storage8 : nullptr,
                                                     .shaderFloat16 = caps_.float16_arithmetic,
                                                     .shaderInt8 = caps_.int8_arithmetic};
-  vk::PhysicalDevice16BitStorageFeatures storage16{
-      .pNext = (caps_.float16_arithmetic || caps_.int8_arithmetic) ? static_cast<void*>(&f16i8)
-                                                                  : (caps_.storage_8bit ? &storage8 : nullptr),
-      .storageBuffer16BitAccess = caps_.storage_16bit};
+  vk::PhysicalDevice16BitStorageFeatures storage16{.pNext = (caps_.float16_arithmetic || caps_.int8_arithmetic)
+                                                                ? static_cast<void*>(&f16i8)
+                                                                : (caps_.storage_8bit ? &storage8 : nullptr),
+                                                   .storageBuffer16BitAccess = caps_.storage_16bit};
   vk::PhysicalDeviceFeatures2 features2{.pNext = &storage16, .features = {.shaderInt64 = caps_.int64}};
   const float priority = 1.0f;
-  const vk::DeviceQueueCreateInfo queue_info{.queueFamilyIndex = queue_family_, .queueCount = 1,
-                                             .pQueuePriorities = &priority};
+  const vk::DeviceQueueCreateInfo queue_info{
+      .queueFamilyIndex = queue_family_, .queueCount = 1, .pQueuePriorities = &priority};
   device_ = guarded("creating the Vulkan device", [&] {
     return vk::raii::Device(physical_device_,
-                            vk::DeviceCreateInfo{.pNext = &features2, .queueCreateInfoCount = 1,
+                            vk::DeviceCreateInfo{.pNext = &features2,
+                                                 .queueCreateInfoCount = 1,
                                                  .pQueueCreateInfos = &queue_info,
                                                  .enabledExtensionCount = static_cast<std::uint32_t>(extensions.size()),
                                                  .ppEnabledExtensionNames = extensions.data()});
@@ -324,8 +333,8 @@ Context::Context(const ContextOptions& options)
     cache_file_ = dir / fmt::format("pipelines-{:04x}-{:04x}.bin", caps_.vendor_id, caps_.device_id);
     cache_data = read_file_or_empty(cache_file_);  // the driver checks the header and ignores a stale cache
   }
-  pipeline_cache_ = device_.createPipelineCache({.initialDataSize = cache_data.size(),
-                                                 .pInitialData = cache_data.empty() ? nullptr : cache_data.data()});
+  pipeline_cache_ = device_.createPipelineCache(
+      {.initialDataSize = cache_data.size(), .pInitialData = cache_data.empty() ? nullptr : cache_data.data()});
   spdlog::debug("Vulkan device: {} ({}), validation {}", caps_.name, caps_.type, validation_enabled_ ? "on" : "off");
 }
 
@@ -367,8 +376,8 @@ std::optional<std::uint32_t> Context::find_memory_type(std::uint32_t type_bits,
 void Context::run_once(const std::function<void(const vk::raii::CommandBuffer&)>& record) const {
   const vk::raii::Fence fence(device_, vk::FenceCreateInfo{});
   std::lock_guard lock(queue_mutex_);  // the transient pool is shared too
-  vk::raii::CommandBuffers buffers(device_, {.commandPool = *transfer_pool_, .level = vk::CommandBufferLevel::ePrimary,
-                                             .commandBufferCount = 1});
+  vk::raii::CommandBuffers buffers(
+      device_, {.commandPool = *transfer_pool_, .level = vk::CommandBufferLevel::ePrimary, .commandBufferCount = 1});
   const auto& cmd = buffers[0];
   cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
   record(cmd);

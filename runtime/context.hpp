@@ -44,7 +44,7 @@ struct DeviceCaps {
   bool int64 = false;  // shaderInt64: 64-bit integer types in shaders
   std::uint32_t subgroup_size = 0;
   bool subgroup_arithmetic = false;
-  bool subgroup_ballot = false;  // subgroupBroadcast & co.
+  bool subgroup_ballot = false;   // subgroupBroadcast & co.
   bool subgroup_compute = false;  // subgroup operations are available in compute shaders
   bool timestamps = false;
   double timestamp_period_ns = 0;
@@ -137,7 +137,7 @@ class Context {
   DeviceProfile profile_;
   bool validation_enabled_ = false;
   std::filesystem::path cache_file_;
-  mutable std::mutex queue_mutex_;   // guards queue_ and transfer_pool_
+  mutable std::mutex queue_mutex_;  // guards queue_ and transfer_pool_
 };
 
 }  // namespace vkvo::rt

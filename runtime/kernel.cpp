@@ -14,8 +14,8 @@ const EmbeddedShader& checked_shader(const Context& context, const KernelSpec& s
   if (spec.precision) context.caps().require(*spec.precision, "shader " + name);
   const EmbeddedShader& shader = find_shader(spec.op, spec.precision);
   if (op_info(spec.op).feature == ShaderFeature::int64 && !context.caps().int64)
-    throw VulkanError(fmt::format("shader {} needs shaderInt64, which device '{}' lacks (or was created without)",
-                                  name, context.caps().name));
+    throw VulkanError(fmt::format("shader {} needs shaderInt64, which device '{}' lacks (or was created without)", name,
+                                  context.caps().name));
   const ShaderInterface& interface = *shader.interface;
   if (spec.specialization.size() > interface.specialization_constants)
     throw VulkanError(fmt::format("shader {} declares {} specialization constants, {} given", name,
@@ -46,7 +46,9 @@ Kernel::Kernel(const Context& context, KernelSpec spec) : spec_(std::move(spec))
 
   std::vector<vk::DescriptorSetLayoutBinding> bindings;
   for (std::uint32_t b = 0; b < interface_->binding_count; ++b)
-    bindings.push_back({.binding = b, .descriptorType = descriptor_type(b), .descriptorCount = 1,
+    bindings.push_back({.binding = b,
+                        .descriptorType = descriptor_type(b),
+                        .descriptorCount = 1,
                         .stageFlags = vk::ShaderStageFlagBits::eCompute});
   set_layout_ = device.createDescriptorSetLayout(
       {.bindingCount = static_cast<std::uint32_t>(bindings.size()), .pBindings = bindings.data()});
@@ -54,7 +56,8 @@ Kernel::Kernel(const Context& context, KernelSpec spec) : spec_(std::move(spec))
   const std::uint32_t push_bytes = interface_->push_constant_bytes;
   const vk::PushConstantRange push{.stageFlags = vk::ShaderStageFlagBits::eCompute, .offset = 0, .size = push_bytes};
   const vk::DescriptorSetLayout set_layout = *set_layout_;
-  layout_ = device.createPipelineLayout({.setLayoutCount = 1, .pSetLayouts = &set_layout,
+  layout_ = device.createPipelineLayout({.setLayoutCount = 1,
+                                         .pSetLayouts = &set_layout,
                                          .pushConstantRangeCount = push_bytes ? 1u : 0u,
                                          .pPushConstantRanges = push_bytes ? &push : nullptr});
 
@@ -69,7 +72,9 @@ Kernel::Kernel(const Context& context, KernelSpec spec) : spec_(std::move(spec))
                                               .dataSize = spec_.specialization.size() * 4,
                                               .pData = spec_.specialization.data()};
   const vk::ComputePipelineCreateInfo info{
-      .stage = {.stage = vk::ShaderStageFlagBits::eCompute, .module = *module_, .pName = "main",
+      .stage = {.stage = vk::ShaderStageFlagBits::eCompute,
+                .module = *module_,
+                .pName = "main",
                 .pSpecializationInfo = entries.empty() ? nullptr : &specialization},
       .layout = *layout_};
   pipeline_ = vk::raii::Pipeline(device, context.pipeline_cache(), info);

@@ -59,7 +59,9 @@ KernelSpec conv_spec(Precision precision, std::uint32_t kernel_size, bool tiled,
                 : !tiled         ? Op::conv3x3
                 : max_pool       ? Op::conv3x3_maxpool_tiled
                                  : Op::conv3x3_tiled;
-  return {.op = op, .precision = precision, .specialization = {kGroupX, kGroupY},
+  return {.op = op,
+          .precision = precision,
+          .specialization = {kGroupX, kGroupY},
           .texel_formats = std::move(texel_formats)};
 }
 
@@ -109,7 +111,8 @@ Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel
       max_texel_elements_(context.caps().max_texel_buffer_elements),
       kernel_(context, conv_spec(precision, kernel_size, tiled_)) {
   if (kernel_size == 1 && choice != Conv3x3Kernel::direct && tiled_kernels_available(context, precision))
-    tiled_1x1_.emplace(context, KernelSpec{.op = Op::conv1x1_tiled, .precision = precision,
+    tiled_1x1_.emplace(context, KernelSpec{.op = Op::conv1x1_tiled,
+                                           .precision = precision,
                                            .specialization = {kGroupX, kGroupY},
                                            .texel_formats = {activation_texel_format(precision),
                                                              conv_weight_texel_format(precision)}});
@@ -129,11 +132,13 @@ void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& i
   const std::uint32_t blocks = (out.channels + 3) / 4;
   if (kernel_size_ == 3) {
     const Conv3x3Push push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
-    if (tiled_) check_tiled_conv_input(in, max_texel_elements_);
-    else if (in.pad != 1) throw std::invalid_argument("Conv2d 3x3: the input needs a 1-pixel zero border");
-    const Groups groups = tiled_ ? tiled_conv_groups(in, out.channels, kTiledConvRows)
-                                 : Groups{groups_for(groups_for(in.width, 3), kGroupX), groups_for(in.height, kGroupY),
-                                          blocks};
+    if (tiled_)
+      check_tiled_conv_input(in, max_texel_elements_);
+    else if (in.pad != 1)
+      throw std::invalid_argument("Conv2d 3x3: the input needs a 1-pixel zero border");
+    const Groups groups =
+        tiled_ ? tiled_conv_groups(in, out.channels, kTiledConvRows)
+               : Groups{groups_for(groups_for(in.width, 3), kGroupX), groups_for(in.height, kGroupY), blocks};
     seq.dispatch(kernel_, {input, weights, bias, output}, push, groups,
                  label.empty() ? fmt::format("conv3x3 {}->{}", in.channels, out.channels) : std::move(label));
   } else {
@@ -192,9 +197,9 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
     const bool wide =
         choice == GemmKernel::tiled_wide || (choice == GemmKernel::automatic && context.profile().wide_gemm_tile);
     tile_ = wide ? TiledGemmTile{8, 16} : TiledGemmTile{4, 8};
-    tiled_ = std::make_unique<TiledVariants>(
-        context, KernelSpec{.op = wide ? Op::gemm_tiled_wide : Op::gemm_tiled, .precision = precision,
-                            .texel_formats = {texel, texel}});
+    tiled_ = std::make_unique<TiledVariants>(context, KernelSpec{.op = wide ? Op::gemm_tiled_wide : Op::gemm_tiled,
+                                                                 .precision = precision,
+                                                                 .texel_formats = {texel, texel}});
   }
 }
 
@@ -249,8 +254,8 @@ bool Gemm::uses_tiled_kernel(const GemmShape& s, const Binding& a, const Binding
   };
   return a.offset % 256 == 0 && b.offset % 256 == 0 && texels(a) <= max_texel_elements_ &&
          texels(b) <= max_texel_elements_ &&
-         multiples_of(per_texel, {s.k, leading_a(s), s.a_offset, s.a_batch_stride, leading_b(s), s.b_offset,
-                                  s.b_batch_stride}) &&
+         multiples_of(per_texel,
+                      {s.k, leading_a(s), s.a_offset, s.a_batch_stride, leading_b(s), s.b_offset, s.b_batch_stride}) &&
          (s.b_transposed || per_texel == 4 || s.n % per_texel == 0);
 }
 
@@ -273,8 +278,10 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   Groups groups;
   if (tiled) {
     const bool vec4_store = c.offset % 16 == 0 && multiples_of_4({s.n, ldc, s.c_offset, s.c_batch_stride});
-    kernel = &tiled_kernel(vec4_store, s.accumulate, !bias ? kGemmNoBias : s.bias_per_row ? kGemmBiasPerRow
-                                                                                           : kGemmBiasPerColumn);
+    kernel = &tiled_kernel(vec4_store, s.accumulate,
+                           !bias            ? kGemmNoBias
+                           : s.bias_per_row ? kGemmBiasPerRow
+                                            : kGemmBiasPerColumn);
     groups = {groups_for(s.n, tile_.cols), groups_for(groups_for(s.m, tile_.rows), kGroupX * kGroupY), s.batch};
   } else {
     // vec4 loads need every vec4 to start at a multiple of 4 elements (and the binding offsets at 16 bytes).
@@ -286,8 +293,20 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
       flags |= shader::kGemmVec4N;
     groups = {groups_for(groups_for(s.n, 4), kGroupX), groups_for(groups_for(s.m, kGemmRows), kGroupY), s.batch};
   }
-  const GemmPush push{s.m, s.n, s.k, lda, ldb, ldc, s.a_offset, s.b_offset, s.c_offset,
-                      s.a_batch_stride, s.b_batch_stride, s.c_batch_stride, flags, s.alpha};
+  const GemmPush push{s.m,
+                      s.n,
+                      s.k,
+                      lda,
+                      ldb,
+                      ldc,
+                      s.a_offset,
+                      s.b_offset,
+                      s.c_offset,
+                      s.a_batch_stride,
+                      s.b_batch_stride,
+                      s.c_batch_stride,
+                      flags,
+                      s.alpha};
   seq.dispatch(*kernel, bindings, &push, sizeof(push), groups,
                label.empty() ? fmt::format("gemm {}x{}x{}", s.m, s.n, s.k) : std::move(label));
 }
@@ -295,8 +314,7 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
 GemmShape conv1x1_gemm_shape(const ActivationShape& in, std::uint32_t out_channels, bool relu) {
   if (in.pad != 0) throw std::invalid_argument("conv1x1_gemm_shape: the input planes must have no border");
   const auto pixels = static_cast<std::uint32_t>(in.plane());
-  return {.m = out_channels, .n = pixels, .k = in.channels, .b_transposed = false, .relu = relu,
-          .bias_per_row = true};
+  return {.m = out_channels, .n = pixels, .k = in.channels, .b_transposed = false, .relu = relu, .bias_per_row = true};
 }
 
 }  // namespace vkvo::rt

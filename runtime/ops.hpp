@@ -120,7 +120,7 @@ struct GemmShape {
   bool b_transposed = false;
   bool relu = false;
   float alpha = 1.0f;
-  bool accumulate = false;  // C += result (residual connections); ReLU, if any, applies to the sum
+  bool accumulate = false;    // C += result (residual connections); ReLU, if any, applies to the sum
   bool bias_per_row = false;  // the bias holds one value per row of C (M), e.g. a 1x1 convolution's per channel
   std::uint32_t lda = 0, ldb = 0, ldc = 0;
   std::uint32_t a_offset = 0, b_offset = 0, c_offset = 0;

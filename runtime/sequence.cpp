@@ -19,10 +19,10 @@ constexpr auto kComputeAndTransfer = vk::PipelineStageFlagBits::eComputeShader |
 
 Sequence::Sequence(const Context& context, std::uint32_t max_timed_commands) : context_(&context) {
   const auto& device = context.device();
-  pool_ = device.createCommandPool({.flags = vk::CommandPoolCreateFlagBits::eResetCommandBuffer,
-                                    .queueFamilyIndex = context.queue_family()});
-  cmd_ = std::move(vk::raii::CommandBuffers(device, {.commandPool = *pool_, .level = vk::CommandBufferLevel::ePrimary,
-                                                     .commandBufferCount = 1})[0]);
+  pool_ = device.createCommandPool(
+      {.flags = vk::CommandPoolCreateFlagBits::eResetCommandBuffer, .queueFamilyIndex = context.queue_family()});
+  cmd_ = std::move(vk::raii::CommandBuffers(
+      device, {.commandPool = *pool_, .level = vk::CommandBufferLevel::ePrimary, .commandBufferCount = 1})[0]);
   fence_ = device.createFence({});
   if (context.caps().timestamps && max_timed_commands > 0) {
     max_queries_ = max_timed_commands + 1;
@@ -74,8 +74,10 @@ void Sequence::flush_hazards() {
   }
   for (std::size_t i = 0; i < next_buffers_.size(); ++i) {
     auto& state = pending_[static_cast<VkBuffer>(next_buffers_[i])];
-    if (next_accesses_[i] == Access::write) state = Access::write;
-    else if (state != Access::write) state = Access::read;
+    if (next_accesses_[i] == Access::write)
+      state = Access::write;
+    else if (state != Access::write)
+      state = Access::read;
   }
   next_buffers_.clear();
   next_accesses_.clear();
@@ -84,7 +86,8 @@ void Sequence::flush_hazards() {
 void Sequence::timestamp_after(std::string label) {
   labels_.push_back(std::move(label));
   if (max_queries_ && labels_.size() < max_queries_)
-    cmd_.writeTimestamp(vk::PipelineStageFlagBits::eBottomOfPipe, *queries_, static_cast<std::uint32_t>(labels_.size()));
+    cmd_.writeTimestamp(vk::PipelineStageFlagBits::eBottomOfPipe, *queries_,
+                        static_cast<std::uint32_t>(labels_.size()));
 }
 
 void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings, const void* push,
@@ -92,8 +95,8 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
   if (!recording_) throw VulkanError("Sequence::dispatch outside begin()/end()");
   const auto& spec = kernel.spec();
   if (bindings.size() != kernel.bindings())
-    throw VulkanError(fmt::format("kernel '{}' takes {} buffers, {} given", kernel.name(), kernel.bindings(),
-                                  bindings.size()));
+    throw VulkanError(
+        fmt::format("kernel '{}' takes {} buffers, {} given", kernel.name(), kernel.bindings(), bindings.size()));
   if (push_bytes != kernel.interface().push_constant_bytes)
     throw VulkanError(fmt::format("kernel '{}' takes {} push-constant bytes, {} given", kernel.name(),
                                   kernel.interface().push_constant_bytes, push_bytes));
@@ -105,9 +108,11 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
                                .descriptorCount = kSetsPerPool * kMaxBindingsPerSet},
         vk::DescriptorPoolSize{.type = vk::DescriptorType::eUniformTexelBuffer,
                                .descriptorCount = kSetsPerPool * kMaxBindingsPerSet}};
-    descriptor_pools_.push_back(context_->device().createDescriptorPool(
-        {.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, .maxSets = kSetsPerPool,
-         .poolSizeCount = static_cast<std::uint32_t>(sizes.size()), .pPoolSizes = sizes.data()}));
+    descriptor_pools_.push_back(
+        context_->device().createDescriptorPool({.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
+                                                 .maxSets = kSetsPerPool,
+                                                 .poolSizeCount = static_cast<std::uint32_t>(sizes.size()),
+                                                 .pPoolSizes = sizes.data()}));
     sets_in_current_pool_ = 0;
   }
   const vk::DescriptorSetLayout set_layout = kernel.set_layout();
@@ -126,9 +131,10 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
     track(b.buffer->handle(), Access::read);
     if (const vk::Format format = spec.texel_format(i); format != vk::Format::eUndefined) {
       if (b.offset % context_->caps().min_texel_buffer_offset_alignment != 0)
-        throw VulkanError(fmt::format("kernel '{}': binding {} of '{}' starts at byte {}, not a multiple of the "
-                                      "device's texel-buffer offset alignment {}", kernel.name(), i, b.buffer->name(),
-                                      b.offset, context_->caps().min_texel_buffer_offset_alignment));
+        throw VulkanError(fmt::format(
+            "kernel '{}': binding {} of '{}' starts at byte {}, not a multiple of the "
+            "device's texel-buffer offset alignment {}",
+            kernel.name(), i, b.buffer->name(), b.offset, context_->caps().min_texel_buffer_offset_alignment));
       buffer_views_.push_back(context_->device().createBufferView(
           {.buffer = b.buffer->handle(), .format = format, .offset = b.offset, .range = b.range}));
       views[i] = *buffer_views_.back();
@@ -137,8 +143,12 @@ void Sequence::dispatch(const Kernel& kernel, std::span<const Binding> bindings,
   std::vector<vk::WriteDescriptorSet> writes;
   for (std::uint32_t i = 0; i < infos.size(); ++i) {
     const bool texel = views[i] != vk::BufferView{};
-    writes.push_back({.dstSet = set, .dstBinding = i, .descriptorCount = 1, .descriptorType = kernel.descriptor_type(i),
-                      .pBufferInfo = texel ? nullptr : &infos[i], .pTexelBufferView = texel ? &views[i] : nullptr});
+    writes.push_back({.dstSet = set,
+                      .dstBinding = i,
+                      .descriptorCount = 1,
+                      .descriptorType = kernel.descriptor_type(i),
+                      .pBufferInfo = texel ? nullptr : &infos[i],
+                      .pTexelBufferView = texel ? &views[i] : nullptr});
     if (kernel.writes(i)) next_accesses_[next_accesses_.size() - infos.size() + i] = Access::write;
   }
   context_->device().updateDescriptorSets(writes, {});
@@ -157,12 +167,14 @@ void Sequence::copy(const Buffer& src, const Buffer& dst, std::size_t bytes, std
                     std::size_t dst_offset, std::string label) {
   if (!recording_) throw VulkanError("Sequence::copy outside begin()/end()");
   if (src_offset + bytes > src.size() || dst_offset + bytes > dst.size())
-    throw VulkanError(fmt::format("copy of {} bytes from '{}' to '{}' overruns a buffer", bytes, src.name(), dst.name()));
+    throw VulkanError(
+        fmt::format("copy of {} bytes from '{}' to '{}' overruns a buffer", bytes, src.name(), dst.name()));
   if (bytes == 0) return;
   track(src.handle(), Access::read);
   track(dst.handle(), Access::write);
   flush_hazards();
-  cmd_.copyBuffer(src.handle(), dst.handle(), vk::BufferCopy{.srcOffset = src_offset, .dstOffset = dst_offset, .size = bytes});
+  cmd_.copyBuffer(src.handle(), dst.handle(),
+                  vk::BufferCopy{.srcOffset = src_offset, .dstOffset = dst_offset, .size = bytes});
   timestamp_after(std::move(label));
 }
 
@@ -177,10 +189,12 @@ void Sequence::fill_zero(const Buffer& buffer, std::string label) {
 void Sequence::end() {
   if (!recording_) throw VulkanError("Sequence::end without begin()");
   // Make every shader/transfer write visible to host reads (mapped buffers) and to later submissions.
-  const vk::MemoryBarrier barrier{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
-                                  .dstAccessMask = vk::AccessFlagBits::eHostRead | vk::AccessFlagBits::eShaderRead |
-                                                   vk::AccessFlagBits::eTransferRead};
-  cmd_.pipelineBarrier(kComputeAndTransfer, vk::PipelineStageFlagBits::eHost | kComputeAndTransfer, {}, barrier, {}, {});
+  const vk::MemoryBarrier barrier{
+      .srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
+      .dstAccessMask =
+          vk::AccessFlagBits::eHostRead | vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eTransferRead};
+  cmd_.pipelineBarrier(kComputeAndTransfer, vk::PipelineStageFlagBits::eHost | kComputeAndTransfer, {}, barrier, {},
+                       {});
   cmd_.end();
   recording_ = false;
   recorded_ = true;
@@ -192,7 +206,7 @@ void Sequence::submit() {
   if (max_queries_) {
     const auto count = static_cast<std::uint32_t>(std::min<std::size_t>(labels_.size() + 1, max_queries_));
     auto [result, values] = queries_.getResults<std::uint64_t>(0, count, count * sizeof(std::uint64_t),
-                                                                sizeof(std::uint64_t), vk::QueryResultFlagBits::e64);
+                                                               sizeof(std::uint64_t), vk::QueryResultFlagBits::e64);
     if (result == vk::Result::eSuccess) last_timestamps_ = std::move(values);
   }
 }
@@ -201,7 +215,8 @@ std::vector<CommandTiming> Sequence::timings() const {
   std::vector<CommandTiming> result;
   const double ns_per_tick = context_->caps().timestamp_period_ns;
   for (std::size_t i = 1; i < last_timestamps_.size(); ++i)
-    result.push_back({labels_[i - 1], static_cast<double>(last_timestamps_[i] - last_timestamps_[i - 1]) * ns_per_tick * 1e-6});
+    result.push_back(
+        {labels_[i - 1], static_cast<double>(last_timestamps_[i] - last_timestamps_[i - 1]) * ns_per_tick * 1e-6});
   return result;
 }
 

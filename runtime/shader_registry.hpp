@@ -20,8 +20,8 @@ enum class ShaderFeature : std::uint8_t {
 };
 
 struct OpInfo {
-  const char* name;          // the table's op name
-  std::uint8_t precisions;   // bit (1 << Precision) per precision it is compiled for; 0: precision-independent
+  const char* name;         // the table's op name
+  std::uint8_t precisions;  // bit (1 << Precision) per precision it is compiled for; 0: precision-independent
   ShaderFeature feature;    // what the device must have to run it
   bool per_precision() const { return precisions != 0; }
   bool compiled_for(Precision p) const { return (precisions >> unsigned(p)) & 1u; }
@@ -37,7 +37,7 @@ struct EmbeddedShader {
 };
 
 namespace detail {
-std::span<const OpInfo> op_table();                 // generated, indexed by Op
+std::span<const OpInfo> op_table();                  // generated, indexed by Op
 std::span<const EmbeddedShader> embedded_shaders();  // generated
 }  // namespace detail
 

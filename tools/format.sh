@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Formats the tracked C++ sources with .clang-format. --check changes nothing and fails, naming the files, when one
-# is not formatted (run by .ci/run).
+# is not formatted (run by .ci/run). shaders/ is GLSL (its push-constant headers too) and keeps its own layout.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode=${1:-}
-mapfile -d '' files < <(git ls-files -z -- '*.cpp' '*.hpp' '*.h')
+mapfile -d '' files < <(git ls-files -z -- '*.cpp' '*.hpp' '*.h' ':!:shaders/*')
 if [ "$mode" = "--check" ]; then
   unformatted=()
   for f in "${files[@]}"; do

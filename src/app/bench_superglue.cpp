@@ -77,7 +77,8 @@ int run(const rt::Context& context, const app::BenchOptions& options) {
         s.second += 1;
       }
       std::vector<std::pair<std::string, std::pair<double, int>>> sorted(stages.begin(), stages.end());
-      std::sort(sorted.begin(), sorted.end(), [](const auto& x, const auto& y) { return x.second.first > y.second.first; });
+      std::sort(sorted.begin(), sorted.end(),
+                [](const auto& x, const auto& y) { return x.second.first > y.second.first; });
       for (const auto& [stage, s] : sorted)
         fmt::print("         {:<22} {:>8.2f} ms  {:>4} dispatches\n", stage, s.first, s.second);
     }

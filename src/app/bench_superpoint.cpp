@@ -25,8 +25,8 @@ cv::Mat bench_image(int width, int height) {
   rng.fill(image, cv::RNG::UNIFORM, 0, 255);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
-      image.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(
-          0.5 * image.at<std::uint8_t>(y, x) + 64 + 60 * std::sin(0.05 * x) * std::cos(0.07 * y));
+      image.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(0.5 * image.at<std::uint8_t>(y, x) + 64 +
+                                                                     60 * std::sin(0.05 * x) * std::cos(0.07 * y));
   return image;
 }
 
@@ -51,13 +51,15 @@ void bench_size(features::SuperPoint& sp, int width, int height, int repeat) {
     const auto timings = sp.last_timings();
     per_command.resize(timings.size());
     labels.resize(timings.size());
-    for (std::size_t c = 0; c < timings.size(); ++c) per_command[c].push_back(timings[c].ms), labels[c] = timings[c].label;
+    for (std::size_t c = 0; c < timings.size(); ++c)
+      per_command[c].push_back(timings[c].ms), labels[c] = timings[c].label;
   }
   const double ms = app::median_ms(wall);
   const double gflop = features::SuperPoint::network_flops(width, height) * 1e-9;
-  fmt::print("superpoint {:>5} {}x{}: {:8.1f} ms median detect ({} runs), {:6.1f} GFLOP/s ({:.1f} GFLOP), "
-             "{} keypoints\n", rt::to_string(sp.precision()), width, height, ms, repeat, gflop / (ms * 1e-3), gflop,
-             keypoints);
+  fmt::print(
+      "superpoint {:>5} {}x{}: {:8.1f} ms median detect ({} runs), {:6.1f} GFLOP/s ({:.1f} GFLOP), "
+      "{} keypoints\n",
+      rt::to_string(sp.precision()), width, height, ms, repeat, gflop / (ms * 1e-3), gflop, keypoints);
   if (labels.empty()) return;
   // Commands sharing a label (a Winograd layer's bands) are summed into one row, in the order they first ran.
   std::vector<std::pair<std::string, double>> rows;
@@ -66,8 +68,10 @@ void bench_size(features::SuperPoint& sp, int width, int height, int repeat) {
     const double t = app::median_ms(per_command[c]);
     total += t;
     const auto row = std::find_if(rows.begin(), rows.end(), [&](const auto& r) { return r.first == labels[c]; });
-    if (row == rows.end()) rows.emplace_back(labels[c], t);
-    else row->second += t;
+    if (row == rows.end())
+      rows.emplace_back(labels[c], t);
+    else
+      row->second += t;
   }
   fmt::print("  {:<32} {:>9} {:>6}\n", "command (GPU timestamps)", "ms", "%");
   for (const auto& [label, t] : rows) fmt::print("  {:<32} {:9.2f} {:5.1f}%\n", label, t, 100.0 * t / total);

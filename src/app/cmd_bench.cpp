@@ -52,11 +52,12 @@ int run(const Options& options) {
   if (options.kernels || options.networks.empty()) {
     vkvo::app::print_bench_header();
     for (auto p : precisions)
-      for (const auto& result : vkvo::app::bench_kernels(context, p, options.repeat, options.filter)) vkvo::app::print_bench_row(result);
+      for (const auto& result : vkvo::app::bench_kernels(context, p, options.repeat, options.filter))
+        vkvo::app::print_bench_row(result);
   }
-  const vkvo::app::BenchOptions bench_options{options.repeat, precisions, options.model, options.winograd,
-                                              options.winograd_tile, options.keypoints, options.attention,
-                                              options.sinkhorn};
+  const vkvo::app::BenchOptions bench_options{
+      options.repeat,        precisions,        options.model,     options.winograd,
+      options.winograd_tile, options.keypoints, options.attention, options.sinkhorn};
   for (const auto& bench : vkvo::app::network_bench_registry())
     if (std::find(options.networks.begin(), options.networks.end(), bench.name) != options.networks.end())
       status |= bench.run(context, bench_options);
@@ -76,7 +77,8 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--winograd-tile", options->winograd_tile,
                       "SuperPoint's Winograd output tile: 4 (F(4x4,3x3)) or 6 (F(6x6,3x3); default)")
            ->check(CLI::IsMember({4, 6}));
-       sub.add_option("--keypoints", options->keypoints, "SuperGlue: keypoints per image, N = M (default: 200 400 1000)")
+       sub.add_option("--keypoints", options->keypoints,
+                      "SuperGlue: keypoints per image, N = M (default: 200 400 1000)")
            ->check(CLI::Range(std::size_t{1}, std::size_t{2048}));
        sub.add_option("--attention", options->attention,
                       "SuperGlue's fused attention: shared-memory tiles (GPUs' choice) or rows in registers (CPUs')")
@@ -87,8 +89,8 @@ vkvo::app::CommandRegistration registration{
            ->check(CLI::IsMember({"auto", "fused", "workgroup-per-line", "invocation-per-line"}));
        sub.add_option("--filter", options->filter, "kernel table: only kernels whose name contains this (e.g. gemm)");
        for (const auto& bench : vkvo::app::network_bench_registry())
-         sub.add_flag_callback("--" + bench.name, [options, name = bench.name] { options->networks.push_back(name); },
-                               bench.description);
+         sub.add_flag_callback(
+             "--" + bench.name, [options, name = bench.name] { options->networks.push_back(name); }, bench.description);
        return std::function<int()>([options] { return run(*options); });
      }}};
 

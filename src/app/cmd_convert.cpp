@@ -18,8 +18,7 @@ struct ConvertOptions {
 };
 
 vkvo::app::CommandRegistration registration{
-    {"convert", "convert a SuperPoint or SuperGlue ONNX model into a .vkvopack model pack",
-     [](CLI::App& sub) {
+    {"convert", "convert a SuperPoint or SuperGlue ONNX model into a .vkvopack model pack", [](CLI::App& sub) {
        auto opts = std::make_shared<ConvertOptions>();
        sub.add_option("--onnx", opts->onnx, "input ONNX model")->required()->check(CLI::ExistingFile);
        sub.add_option("--out", opts->out, "output model pack (.vkvopack)")->required();

@@ -35,9 +35,9 @@ struct EvalCommandOptions {
 
 // The command line's names of the ground-truth choices. CLI11 checks the option against the names (its message
 // names the option, the value and the choices), so the lookups in run_eval always find them.
-const std::map<std::string, vkvo::io::PoseFrame> kFrameNames{
-    {"auto", vkvo::io::PoseFrame::automatic}, {"body", vkvo::io::PoseFrame::body},
-    {"camera", vkvo::io::PoseFrame::camera}};
+const std::map<std::string, vkvo::io::PoseFrame> kFrameNames{{"auto", vkvo::io::PoseFrame::automatic},
+                                                             {"body", vkvo::io::PoseFrame::body},
+                                                             {"camera", vkvo::io::PoseFrame::camera}};
 const std::map<std::string, vkvo::io::GroundTruthOrientation> kOrientationNames{
     {"auto", vkvo::io::GroundTruthOrientation::automatic},
     {"as-written", vkvo::io::GroundTruthOrientation::as_written},
@@ -81,11 +81,12 @@ int run_eval(const EvalCommandOptions& opts) {
       return s.count ? fmt::format("  {:<22} {:>6} {:>10.4f} {:>10.4f}\n", what, s.count, s.rmse, s.max)
                      : fmt::format("  {:<22} {:>6} {:>10} {:>10}\n", what, 0, "-", "-");
     };
-    fmt::print("\nby frame state ({}; aligned on the tracked and relocalised poses):\n  {:<22} {:>6} {:>10} {:>10}\n"
-               "{}{}{}",
-               evaluation.frames_file->string(), "", "poses", "RMSE m", "max m",
-               row("tracked + relocalised", by_state->measured), row("bridged (gap)", by_state->bridged),
-               row("lost (predicted)", by_state->lost));
+    fmt::print(
+        "\nby frame state ({}; aligned on the tracked and relocalised poses):\n  {:<22} {:>6} {:>10} {:>10}\n"
+        "{}{}{}",
+        evaluation.frames_file->string(), "", "poses", "RMSE m", "max m",
+        row("tracked + relocalised", by_state->measured), row("bridged (gap)", by_state->bridged),
+        row("lost (predicted)", by_state->lost));
   }
 
   if (!opts.plot.empty()) {
@@ -103,8 +104,7 @@ int run_eval(const EvalCommandOptions& opts) {
 }
 
 vkvo::app::CommandRegistration registration{
-    {"eval", "compare a trajectory with ground truth: ATE, RPE, drift, plot",
-     [](CLI::App& sub) {
+    {"eval", "compare a trajectory with ground truth: ATE, RPE, drift, plot", [](CLI::App& sub) {
        auto opts = std::make_shared<EvalCommandOptions>();
        sub.add_option("--estimate", opts->estimate, "estimated trajectory (TUM, EuRoC CSV, KITTI poses or positions)")
            ->required()

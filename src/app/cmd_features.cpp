@@ -10,8 +10,8 @@
 #include <string>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "app/command.hpp"
 #include "app/device_options.hpp"
@@ -59,8 +59,8 @@ int run_features(const FeaturesOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const features::PointFeatures result = superpoint.detect(image, o.dense ? &dense : nullptr);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  spdlog::info("{}: {}x{}, {} keypoints ({} NMS candidates), {} on {}, {:.1f} ms (first run, includes setup)",
-               o.image, image.cols, image.rows, result.size(), superpoint.last_candidate_count(),
+  spdlog::info("{}: {}x{}, {} keypoints ({} NMS candidates), {} on {}, {:.1f} ms (first run, includes setup)", o.image,
+               image.cols, image.rows, result.size(), superpoint.last_candidate_count(),
                rt::to_string(superpoint.precision()), context.caps().name, ms);
 
   fs::create_directories(o.out);

@@ -7,8 +7,8 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include <fmt/format.h>
@@ -42,8 +42,10 @@ features::PointFeatures read_features(const fs::path& dir, int width, int height
   if (kp.shape.size() != 2 || kp.shape[1] != 2)
     throw std::runtime_error(fmt::format("{}: keypoints.npy must have shape (N, 2)", dir.string()));
   if (scores.element_count() != n || desc.shape.size() != 2 || desc.shape[0] != n)
-    throw std::runtime_error(fmt::format("{}: scores.npy (N) and descriptors.npy (N x D) must agree with the {} "
-                                         "keypoints", dir.string(), n));
+    throw std::runtime_error(
+        fmt::format("{}: scores.npy (N) and descriptors.npy (N x D) must agree with the {} "
+                    "keypoints",
+                    dir.string(), n));
   features::PointFeatures f;
   f.image_width = width;
   f.image_height = height;
@@ -110,10 +112,8 @@ vkvo::app::CommandRegistration registration{
      [](CLI::App& sub) {
        auto o = std::make_shared<MatchOptions>();
        sub.add_option("--model", o->model, "SuperGlue model pack (.vkvopack), or 'nn'")->required();
-       sub.add_option("--features0", o->features0, "folder of image 0's keypoints/scores/descriptors .npy")
-           ->required();
-       sub.add_option("--features1", o->features1, "folder of image 1's keypoints/scores/descriptors .npy")
-           ->required();
+       sub.add_option("--features0", o->features0, "folder of image 0's keypoints/scores/descriptors .npy")->required();
+       sub.add_option("--features1", o->features1, "folder of image 1's keypoints/scores/descriptors .npy")->required();
        sub.add_option("--image-size", o->image_size, "WxH of the images (keypoint normalisation)")->required();
        sub.add_option("--out", o->out, "output folder")->required();
        sub.add_flag("--dense", o->dense, "also write log_assignment.npy (SuperGlue)");

@@ -38,7 +38,8 @@ int run(const Options& o) {
   // The events are placed on the whole sequence: the benchmark runs all of it.
   config.dataset.range = {};
   const auto dataset = vkvo::io::open_dataset(o.dataset, config.dataset);
-  if (dataset->size() < 2) throw std::runtime_error(fmt::format("{}: too few frames for a benchmark", o.dataset.string()));
+  if (dataset->size() < 2)
+    throw std::runtime_error(fmt::format("{}: too few frames for a benchmark", o.dataset.string()));
   const double duration = dataset->frame(dataset->size() - 1).timestamp_s - dataset->frame(0).timestamp_s;
   const double rate = static_cast<double>(dataset->size() - 1) / duration;
   const auto all = vkvo::robustness::standard_scenarios(static_cast<int>(dataset->size()), rate);
@@ -48,10 +49,8 @@ int run(const Options& o) {
   }
   const auto scenarios = vkvo::robustness::select_scenarios(all, o.scenarios);
 
-  vkvo::app::FrontendOptions frontend_options{.superpoint = o.model,
-                                              .superglue = o.superglue,
-                                              .device = o.device.context_options(),
-                                              .cache_in_memory = true};
+  vkvo::app::FrontendOptions frontend_options{
+      .superpoint = o.model, .superglue = o.superglue, .device = o.device.context_options(), .cache_in_memory = true};
   if (!o.feature_cache.empty()) frontend_options.feature_cache = o.feature_cache;
   vkvo::app::VoFrontends frontends(config, frontend_options);
   const auto results = vkvo::robustness::run_benchmark(
@@ -66,7 +65,8 @@ int run(const Options& o) {
 }
 
 vkvo::app::CommandRegistration registration{
-    {"robustness", "the robustness benchmark: a sequence clean and under lights-off, dimming, flicker and exposure events",
+    {"robustness",
+     "the robustness benchmark: a sequence clean and under lights-off, dimming, flicker and exposure events",
      [](CLI::App& sub) {
        auto o = std::make_shared<Options>();
        sub.add_option("--config", o->config, "YAML configuration")->check(CLI::ExistingFile);

@@ -50,8 +50,10 @@ int run(const Options& o) {
   if (o.stride) dataset_options.range.stride = *o.stride;
   for (const std::string& span : o.skip) dataset_options.range.skip.push_back(vkvo::io::parse_frame_span(span));
   if (o.last) {
-    if (*o.last >= 0) dataset_options.range.last = static_cast<std::size_t>(*o.last);
-    else dataset_options.range.last.reset();
+    if (*o.last >= 0)
+      dataset_options.range.last = static_cast<std::size_t>(*o.last);
+    else
+      dataset_options.range.last.reset();
   }
   const auto dataset = vkvo::io::open_dataset(o.dataset, dataset_options);
   spdlog::info("dataset {} ({}): {} stereo frames", dataset->name(), vkvo::io::to_string(dataset->kind()),
@@ -73,10 +75,11 @@ int run(const Options& o) {
     spdlog::info("feature cache {}: {} image(s) came from it", cache->folder() ? cache->folder()->string() : "(memory)",
                  cache->hits());
 
-  fmt::print("\n{} frames ({} skipped), {} keyframes, {} tracking losses, {} relocalisation(s), {} map segment(s) "
-             "at the end ({} started, {} merged), map: {} points, {} lines\n",
-             result.frames, result.frames_skipped, result.keyframes, result.tracking_losses, result.relocalisations,
-             result.segments, result.segments_started, result.merges, result.map_points, result.map_lines);
+  fmt::print(
+      "\n{} frames ({} skipped), {} keyframes, {} tracking losses, {} relocalisation(s), {} map segment(s) "
+      "at the end ({} started, {} merged), map: {} points, {} lines\n",
+      result.frames, result.frames_skipped, result.keyframes, result.tracking_losses, result.relocalisations,
+      result.segments, result.segments_started, result.merges, result.map_points, result.map_lines);
   fmt::print("{}", result.timing.table(result.frames, result.wall_seconds));
   fmt::print("trajectory: {}\nframes:     {}\nkeyframes:  {} (refined: {})\nsummary:    {}\nmap:        {}\n",
              result.trajectory.string(), result.frames_file.string(), result.keyframes_file.string(),
@@ -85,15 +88,16 @@ int run(const Options& o) {
     const auto rmse = [&](const char* key, const char* stats) -> std::string {
       if (!e.contains(key)) return "n/a";
       const auto& s = e[key][stats];
-      return s["count"].get<std::size_t>() ? fmt::format("{:.4f} m ({} poses)", s["rmse"].get<double>(),
-                                                        s["count"].get<std::size_t>())
-                                           : std::string("none");
+      return s["count"].get<std::size_t>()
+                 ? fmt::format("{:.4f} m ({} poses)", s["rmse"].get<double>(), s["count"].get<std::size_t>())
+                 : std::string("none");
     };
-    fmt::print("ATE RMSE against {} (SE3 alignment):\n  every frame      {}\n  tracked frames   {}\n"
-               "  bridged frames   {}\n  refined keyframes {}\n",
-               e["groundtruth"].get<std::string>(), rmse("trajectory", "ate_translation_m"),
-               rmse("trajectory_by_state", "measured_translation_m"), rmse("trajectory_by_state", "bridged_translation_m"),
-               rmse("keyframes_refined", "ate_translation_m"));
+    fmt::print(
+        "ATE RMSE against {} (SE3 alignment):\n  every frame      {}\n  tracked frames   {}\n"
+        "  bridged frames   {}\n  refined keyframes {}\n",
+        e["groundtruth"].get<std::string>(), rmse("trajectory", "ate_translation_m"),
+        rmse("trajectory_by_state", "measured_translation_m"), rmse("trajectory_by_state", "bridged_translation_m"),
+        rmse("keyframes_refined", "ate_translation_m"));
   }
   return g_stop ? 130 : 0;
 }
@@ -101,14 +105,16 @@ int run(const Options& o) {
 vkvo::app::CommandRegistration registration{
     {"run", "run the stereo VO on an EuRoC/ASL or KITTI folder", [](CLI::App& sub) {
        auto o = std::make_shared<Options>();
-       sub.add_option("--config", o->config, "YAML configuration (config/euroc.yaml, kitti.yaml, oivio.yaml, uma_vi.yaml)")
+       sub.add_option("--config", o->config,
+                      "YAML configuration (config/euroc.yaml, kitti.yaml, oivio.yaml, uma_vi.yaml)")
            ->check(CLI::ExistingFile);
        sub.add_option("--dataset", o->dataset, "dataset folder (EuRoC mav0 or its parent; KITTI sequence)")->required();
        sub.add_option("--out", o->out, "output folder");
        sub.add_option("--matcher", o->matcher, "superglue | nn (overrides the config)")
            ->check(CLI::IsMember({"superglue", "nn"}));
        sub.add_flag("--no-lines", o->no_lines, "points only (the paper's w/o-line ablation)");
-       sub.add_option("--model", o->model, "SuperPoint pack or ONNX (default: config, $VKVO_MODELS, models/, ../shared/models)");
+       sub.add_option("--model", o->model,
+                      "SuperPoint pack or ONNX (default: config, $VKVO_MODELS, models/, ../shared/models)");
        sub.add_option("--superglue", o->superglue, "SuperGlue pack or ONNX (default: config models.superglue)");
        sub.add_option("--first", o->first, "first frame index (overrides the config's dataset.first_frame)");
        sub.add_option("--last", o->last, "last frame index, inclusive; -1: to the end (dataset.last_frame)");

@@ -88,31 +88,31 @@ int run_synth(const SynthOptions& o) {
   return 0;
 }
 
-vkvo::app::CommandRegistration reg{{"synth", "render a synthetic stereo sequence, or perturb the lighting of one",
-  [](CLI::App& sub) {
-    auto o = std::make_shared<SynthOptions>();
-    sub.add_option("--out", o->out, "output folder (EuRoC/ASL layout + ground truth)")->required();
-    sub.add_option("--preset", o->preset, "default (200 frames 752x480, lights off in the middle) | small")
-        ->check(CLI::IsMember({"default", "small"}));
-    sub.add_option("--config", o->config, "YAML with synth parameters (top level or a `synth:` section)")
-        ->check(CLI::ExistingFile);
-    sub.add_option("--events", o->events,
-                   "illumination events, e.g. lights_off:95-104 dim:50-150,gain=0.1 overexposure:20-40,gain=3 "
-                   "flicker:0-,depth=0.6,period=3.7 spotlight:0-199,sigma=0.25 stereo:0-,gain=0.5,cam=right");
-    sub.add_flag("--no-default-events", o->no_default_events, "drop the preset's events (e.g. for a clean default)");
-    sub.add_option("--perturb", o->perturb, "apply --events to this ASL or KITTI sequence instead of rendering")
-        ->check(CLI::ExistingDirectory);
-    sub.add_option("--perturb-noise", o->perturb_noise, "Gaussian noise (DN) added to perturbed frames");
-    sub.add_option("--seed", o->seed, "random seed (scene, trajectory phases, noise)");
-    sub.add_option("--frames", o->frames, "number of stereo frames");
-    sub.add_option("--speed", o->speed, "mean camera speed, m/s");
-    sub.add_option("--yaw-rate", o->yaw_rate, "steady heading turn, deg/s");
-    sub.add_option("--baseline", o->baseline, "stereo baseline, m");
-    sub.add_option("--rate", o->rate, "frame rate, Hz");
-    sub.add_option("--resolution", o->resolution, "W H (intrinsics scale with it)")->expected(2);
-    sub.add_option("--intrinsics", o->intrinsics, "fx fy cx cy")->expected(4);
-    sub.add_flag("--motion-blur", o->motion_blur, "average sub-frame renders over the exposure time");
-    return std::function<int()>([o] { return run_synth(*o); });
-  }}};
+vkvo::app::CommandRegistration reg{
+    {"synth", "render a synthetic stereo sequence, or perturb the lighting of one", [](CLI::App& sub) {
+       auto o = std::make_shared<SynthOptions>();
+       sub.add_option("--out", o->out, "output folder (EuRoC/ASL layout + ground truth)")->required();
+       sub.add_option("--preset", o->preset, "default (200 frames 752x480, lights off in the middle) | small")
+           ->check(CLI::IsMember({"default", "small"}));
+       sub.add_option("--config", o->config, "YAML with synth parameters (top level or a `synth:` section)")
+           ->check(CLI::ExistingFile);
+       sub.add_option("--events", o->events,
+                      "illumination events, e.g. lights_off:95-104 dim:50-150,gain=0.1 overexposure:20-40,gain=3 "
+                      "flicker:0-,depth=0.6,period=3.7 spotlight:0-199,sigma=0.25 stereo:0-,gain=0.5,cam=right");
+       sub.add_flag("--no-default-events", o->no_default_events, "drop the preset's events (e.g. for a clean default)");
+       sub.add_option("--perturb", o->perturb, "apply --events to this ASL or KITTI sequence instead of rendering")
+           ->check(CLI::ExistingDirectory);
+       sub.add_option("--perturb-noise", o->perturb_noise, "Gaussian noise (DN) added to perturbed frames");
+       sub.add_option("--seed", o->seed, "random seed (scene, trajectory phases, noise)");
+       sub.add_option("--frames", o->frames, "number of stereo frames");
+       sub.add_option("--speed", o->speed, "mean camera speed, m/s");
+       sub.add_option("--yaw-rate", o->yaw_rate, "steady heading turn, deg/s");
+       sub.add_option("--baseline", o->baseline, "stereo baseline, m");
+       sub.add_option("--rate", o->rate, "frame rate, Hz");
+       sub.add_option("--resolution", o->resolution, "W H (intrinsics scale with it)")->expected(2);
+       sub.add_option("--intrinsics", o->intrinsics, "fx fy cx cy")->expected(4);
+       sub.add_flag("--motion-blur", o->motion_blur, "average sub-frame renders over the exposure time");
+       return std::function<int()>([o] { return run_synth(*o); });
+     }}};
 
 }  // namespace

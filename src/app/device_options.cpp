@@ -38,7 +38,8 @@ void add_precision_option(CLI::App& command, DeviceSelection& selection) {
 }
 
 void add_precision_list_option(CLI::App& command, std::vector<std::string>& precisions) {
-  command.add_option("--precision", precisions, "fp32, fp16s and/or fp16 (default: every precision the device supports)")
+  command
+      .add_option("--precision", precisions, "fp32, fp16s and/or fp16 (default: every precision the device supports)")
       ->check(CLI::IsMember(kPrecisions));
 }
 

@@ -13,7 +13,7 @@
 namespace vkvo::app {
 
 struct DeviceSelection {
-  std::string device;            // index or name substring; empty: $VKVO_DEVICE, else the best device
+  std::string device;              // index or name substring; empty: $VKVO_DEVICE, else the best device
   std::string precision = "auto";  // auto (the device's preferred) or a precision's name
 
   rt::ContextOptions context_options() const;

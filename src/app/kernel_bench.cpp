@@ -69,9 +69,9 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
   // available; the direct one is the fallback), so the gain of one over the other is measured, not assumed.
   std::vector<rt::Conv3x3Kernel> kernels3x3{rt::Conv3x3Kernel::direct};
   if (rt::tiled_kernels_available(ctx, precision)) kernels3x3.insert(kernels3x3.begin(), rt::Conv3x3Kernel::tiled);
-  for (const ConvCase c : {ConvCase{64, 64, 240, 376, 3}, ConvCase{1, 64, 480, 752, 3}, ConvCase{64, 64, 480, 752, 3},
-                           ConvCase{128, 256, 60, 94, 3}, ConvCase{256, 65, 60, 94, 1},
-                           ConvCase{256, 256, 60, 80, 1}}) {
+  for (const ConvCase c :
+       {ConvCase{64, 64, 240, 376, 3}, ConvCase{1, 64, 480, 752, 3}, ConvCase{64, 64, 480, 752, 3},
+        ConvCase{128, 256, 60, 94, 3}, ConvCase{256, 65, 60, 94, 1}, ConvCase{256, 256, 60, 80, 1}}) {
     for (const rt::Conv3x3Kernel kernel : c.k == 3 ? kernels3x3 : std::vector{rt::Conv3x3Kernel::automatic}) {
       const char* suffix = c.k == 1 ? "" : kernel == rt::Conv3x3Kernel::tiled ? " tiled" : " direct";
       const auto kernel_name = fmt::format("conv{}x{} {}->{} @{}x{}{}", c.k, c.k, c.in_c, c.out_c, c.w, c.h, suffix);
@@ -92,8 +92,7 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
       seq.end();
       const double ms = time_sequence(seq, repeat, timestamps);
       const double bytes = (double(in.elements()) + double(out.elements())) * elem;
-      results.push_back({kernel_name, name, ms,
-                         rt::Conv2d::flops(in, c.out_c, c.k) / (ms * 1e6), bytes / (ms * 1e6)});
+      results.push_back({kernel_name, name, ms, rt::Conv2d::flops(in, c.out_c, c.k) / (ms * 1e6), bytes / (ms * 1e6)});
     }
   }
 
@@ -139,7 +138,8 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
       rt::Buffer in_buf(ctx, rt::activation_bytes(in, precision)), out_buf(ctx, rt::activation_bytes(out, precision));
       rt::Buffer w_buf(ctx, std::size_t(rt::WinogradConv3x3::points(op.tile())) * c.out_c * c.in_c * sizeof(float));
       rt::Buffer b_buf(ctx, c.out_c * sizeof(float));
-      rt::Buffer transformed(ctx, op.transformed_input_bytes(in, c.out_c)), products(ctx, op.products_bytes(in, c.out_c));
+      rt::Buffer transformed(ctx, op.transformed_input_bytes(in, c.out_c)),
+          products(ctx, op.products_bytes(in, c.out_c));
       fill_random(in_buf, precision, 1);
       fill_random(w_buf, precision, 2);
       b_buf.fill_zero();
@@ -189,8 +189,7 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
     seq.end();
     const double ms = time_sequence(seq, repeat, timestamps);
     const double bytes = (double(s.m) * s.k + double(s.n) * s.k + double(s.m) * s.n) * elem;
-    results.push_back({kernel_name, name, ms,
-                       rt::Gemm::flops(s) / (ms * 1e6), bytes / (ms * 1e6)});
+    results.push_back({kernel_name, name, ms, rt::Gemm::flops(s) / (ms * 1e6), bytes / (ms * 1e6)});
   }
   return results;
 }

@@ -18,8 +18,8 @@
 namespace vkvo::app {
 
 struct FrontendOptions {
-  std::filesystem::path superpoint, superglue;  // overrides of the config's models (pack or ONNX)
-  rt::ContextOptions device;                    // which Vulkan device
+  std::filesystem::path superpoint, superglue;         // overrides of the config's models (pack or ONNX)
+  rt::ContextOptions device;                           // which Vulkan device
   std::optional<std::filesystem::path> feature_cache;  // a folder: features kept on disk across runs
   bool cache_in_memory = false;                        // no folder, but each image's features computed once
 };

@@ -17,7 +17,11 @@ using Vec3 = Eigen::Matrix<T, 3, 1>;
 struct Intrinsics {
   double fx, fy, cx, cy, baseline, inv_sigma;
   Intrinsics(const geometry::StereoCamera& s, double sigma)
-      : fx(s.camera.fx), fy(s.camera.fy), cx(s.camera.cx), cy(s.camera.cy), baseline(s.baseline),
+      : fx(s.camera.fx),
+        fy(s.camera.fy),
+        cx(s.camera.cx),
+        cy(s.camera.cy),
+        baseline(s.baseline),
         inv_sigma(1.0 / sigma) {}
 };
 
@@ -146,8 +150,8 @@ std::unique_ptr<ceres::CostFunction> numeric(Functor f) {
 
 }  // namespace
 
-std::unique_ptr<ceres::CostFunction> make_point_cost(const geometry::StereoCamera& stereo,
-                                                     const PointMeasurement& m, double sigma) {
+std::unique_ptr<ceres::CostFunction> make_point_cost(const geometry::StereoCamera& stereo, const PointMeasurement& m,
+                                                     double sigma) {
   const Intrinsics k(stereo, sigma);
   if (m.stereo()) return autodiff<PointResidual<true>, 3, 3>({k, m});
   return autodiff<PointResidual<false>, 2, 3>({k, m});

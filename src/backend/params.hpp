@@ -28,10 +28,10 @@ struct OptimizationParams {
   double pnp_confidence = 0.99;
 
   // Local bundle adjustment.
-  int window_size = 10;     // keyframes optimised (the newest and its most recent co-visible ones)
-  int min_covisible = 1;    // shared landmarks for a keyframe to count as co-visible
-  int ba_iterations = 10;   // per round
-  int ba_rounds = 2;        // solve, drop outliers, solve again
+  int window_size = 10;    // keyframes optimised (the newest and its most recent co-visible ones)
+  int min_covisible = 1;   // shared landmarks for a keyframe to count as co-visible
+  int ba_iterations = 10;  // per round
+  int ba_rounds = 2;       // solve, drop outliers, solve again
 
   int num_threads = 1;
 };

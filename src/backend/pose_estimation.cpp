@@ -44,8 +44,9 @@ int classify(std::vector<Residual>& residuals, PoseBlock& pose, std::vector<bool
 
 }  // namespace
 
-std::optional<PnpSolution> solve_pnp_ransac(const geometry::PinholeCamera& camera, const std::vector<PointMatch>& points,
-                                            const OptimizationParams& params, int iterations) {
+std::optional<PnpSolution> solve_pnp_ransac(const geometry::PinholeCamera& camera,
+                                            const std::vector<PointMatch>& points, const OptimizationParams& params,
+                                            int iterations) {
   if (points.size() < 4) return std::nullopt;
   std::vector<cv::Point3d> object;
   std::vector<cv::Point2d> image;
@@ -92,8 +93,7 @@ PoseEstimate estimate_pose(const geometry::StereoCamera& stereo, const Eigen::Is
   }
   for (const auto& l : lines) {
     line_blocks.push_back(l.line_world.normalized().vector());
-    line_res.push_back({make_line_cost(stereo, l.measurement, params.pixel_sigma), nullptr,
-                        line_blocks.back().data(),
+    line_res.push_back({make_line_cost(stereo, l.measurement, params.pixel_sigma), nullptr, line_blocks.back().data(),
                         l.measurement.stereo() ? params.stereo_line_chi2 : params.mono_line_chi2});
   }
   for (auto* group : {&point_res, &line_res})
@@ -136,8 +136,7 @@ PoseEstimate estimate_pose(const geometry::StereoCamera& stereo, const Eigen::Is
     auto add = [&](std::vector<Residual>& residuals, const std::vector<bool>& inliers) {
       for (size_t i = 0; i < residuals.size(); ++i) {
         if (!inliers[i]) continue;
-        problem.AddResidualBlock(residuals[i].cost.get(), residuals[i].loss.get(), pose.data(),
-                                 residuals[i].landmark);
+        problem.AddResidualBlock(residuals[i].cost.get(), residuals[i].loss.get(), pose.data(), residuals[i].landmark);
         problem.SetParameterBlockConstant(residuals[i].landmark);
         ++used;
       }

@@ -42,8 +42,9 @@ struct PnpSolution {
   int num_inliers = 0;
 };
 // nullopt when there are fewer than 4 matches or RANSAC finds no model.
-std::optional<PnpSolution> solve_pnp_ransac(const geometry::PinholeCamera& camera, const std::vector<PointMatch>& points,
-                                            const OptimizationParams& params, int iterations);
+std::optional<PnpSolution> solve_pnp_ransac(const geometry::PinholeCamera& camera,
+                                            const std::vector<PointMatch>& points, const OptimizationParams& params,
+                                            int iterations);
 
 PoseEstimate estimate_pose(const geometry::StereoCamera& stereo, const Eigen::Isometry3d& T_world_camera_prior,
                            const std::vector<PointMatch>& points, const std::vector<LineMatch>& lines,

@@ -2,8 +2,8 @@
 
 #include <stdexcept>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 
 namespace vkvo::eval {
 
@@ -55,8 +55,7 @@ Similarity align_positions(const std::vector<Eigen::Vector3d>& estimate,
   return similarity;
 }
 
-Similarity align_first_pose(const Eigen::Isometry3d& estimate0, const Eigen::Isometry3d& groundtruth0,
-                            double scale) {
+Similarity align_first_pose(const Eigen::Isometry3d& estimate0, const Eigen::Isometry3d& groundtruth0, double scale) {
   Similarity similarity;
   similarity.scale = scale;
   similarity.rotation = groundtruth0.linear() * estimate0.linear().transpose();
@@ -71,7 +70,8 @@ std::vector<Eigen::Vector3d> positions(const std::vector<Eigen::Isometry3d>& pos
   return result;
 }
 
-std::vector<Eigen::Isometry3d> transform_poses(const Similarity& similarity, const std::vector<Eigen::Isometry3d>& poses) {
+std::vector<Eigen::Isometry3d> transform_poses(const Similarity& similarity,
+                                               const std::vector<Eigen::Isometry3d>& poses) {
   std::vector<Eigen::Isometry3d> result;
   result.reserve(poses.size());
   for (const auto& pose : poses) result.push_back(similarity.apply(pose));

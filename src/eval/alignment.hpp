@@ -37,6 +37,7 @@ Similarity align_first_pose(const Eigen::Isometry3d& estimate0, const Eigen::Iso
                             double scale = 1.0);
 
 std::vector<Eigen::Vector3d> positions(const std::vector<Eigen::Isometry3d>& poses);
-std::vector<Eigen::Isometry3d> transform_poses(const Similarity& similarity, const std::vector<Eigen::Isometry3d>& poses);
+std::vector<Eigen::Isometry3d> transform_poses(const Similarity& similarity,
+                                               const std::vector<Eigen::Isometry3d>& poses);
 
 }  // namespace vkvo::eval

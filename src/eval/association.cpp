@@ -24,8 +24,8 @@ AssociatedPoses associate(const io::Trajectory& estimate, const io::Trajectory& 
   std::vector<double> match_dt(est.size(), 0);
   std::vector<std::size_t> owner(gt.size(), none);
   for (std::size_t i = 0; i < est.size(); ++i) {
-    const auto it = std::lower_bound(gt.begin(), gt.end(), est[i].t,
-                                     [](const io::StampedPose& p, double t) { return p.t < t; });
+    const auto it =
+        std::lower_bound(gt.begin(), gt.end(), est[i].t, [](const io::StampedPose& p, double t) { return p.t < t; });
     std::size_t best = none;
     double best_dt = std::numeric_limits<double>::infinity();
     for (auto candidate : {it, it == gt.begin() ? gt.end() : std::prev(it)}) {

@@ -10,9 +10,9 @@
 namespace vkvo::eval {
 
 struct AssociatedPoses {
-  std::vector<double> t;                          // estimate timestamps (s)
-  std::vector<Eigen::Isometry3d> estimate;        // pose i of the estimate ...
-  std::vector<Eigen::Isometry3d> groundtruth;     // ... and the ground-truth pose nearest in time
+  std::vector<double> t;                       // estimate timestamps (s)
+  std::vector<Eigen::Isometry3d> estimate;     // pose i of the estimate ...
+  std::vector<Eigen::Isometry3d> groundtruth;  // ... and the ground-truth pose nearest in time
   std::size_t size() const { return t.size(); }
 };
 

@@ -15,8 +15,8 @@ namespace vkvo::eval {
 namespace {
 std::string time_range(const io::Trajectory& trajectory) {
   if (trajectory.empty()) return "empty";
-  const auto [first, last] = std::minmax_element(trajectory.begin(), trajectory.end(),
-                                                 [](const auto& a, const auto& b) { return a.t < b.t; });
+  const auto [first, last] =
+      std::minmax_element(trajectory.begin(), trajectory.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
   return fmt::format("{:.3f} .. {:.3f} s ({} poses)", first->t, last->t, trajectory.size());
 }
 }  // namespace
@@ -37,7 +37,8 @@ EvalOptions load_eval_options(const YAML::Node& section) {
   return options;
 }
 
-EvaluationResult evaluate(const io::Trajectory& estimate, const io::Trajectory& groundtruth, const EvalOptions& options) {
+EvaluationResult evaluate(const io::Trajectory& estimate, const io::Trajectory& groundtruth,
+                          const EvalOptions& options) {
   EvaluationResult result;
   result.estimate_poses = estimate.size();
   result.groundtruth_poses = groundtruth.size();
@@ -46,9 +47,9 @@ EvaluationResult evaluate(const io::Trajectory& estimate, const io::Trajectory& 
   const AssociatedPoses poses = associate(estimate, groundtruth, options.max_dt_s);
   result.associated_poses = poses.size();
   if (poses.size() < 3)
-    throw std::runtime_error(fmt::format(
-        "only {} poses associate within {:.3f} s: estimate {}, ground truth {} (same clock? same units?)",
-        poses.size(), options.max_dt_s, time_range(estimate), time_range(groundtruth)));
+    throw std::runtime_error(
+        fmt::format("only {} poses associate within {:.3f} s: estimate {}, ground truth {} (same clock? same units?)",
+                    poses.size(), options.max_dt_s, time_range(estimate), time_range(groundtruth)));
   result.duration_s = poses.t.back() - poses.t.front();
 
   result.ate = compute_ate(poses, options.alignment, options.positions_only);
@@ -98,14 +99,13 @@ StateEvaluation evaluate_by_state(const io::Trajectory& estimate, const std::vec
     }
   }
   if (measured.size() < 3)
-    throw std::runtime_error(fmt::format("only {} tracked or relocalised poses associate with the ground truth",
-                                         measured.size()));
+    throw std::runtime_error(
+        fmt::format("only {} tracked or relocalised poses associate with the ground truth", measured.size()));
   const Similarity alignment = compute_ate(measured, options.alignment, true).alignment;
   std::vector<double> measured_errors, bridged_errors, lost_errors;
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    const double error = (alignment.apply(Eigen::Vector3d(poses.estimate[i].translation())) -
-                          poses.groundtruth[i].translation())
-                             .norm();
+    const double error =
+        (alignment.apply(Eigen::Vector3d(poses.estimate[i].translation())) - poses.groundtruth[i].translation()).norm();
     if (states[i] == "tracked" || states[i] == "relocalised")
       measured_errors.push_back(error);
     else if (states[i] == "bridged")
@@ -146,30 +146,37 @@ nlohmann::json to_json(const EvaluationResult& result) {
   const auto& a = result.ate.alignment;
   std::vector<double> rotation(a.rotation.data(), a.rotation.data() + 9);  // column-major
   return {
-      {"poses", {{"estimate", result.estimate_poses}, {"groundtruth", result.groundtruth_poses},
-                 {"associated", result.associated_poses}, {"duration_s", result.duration_s},
-                 {"positions_only", result.positions_only}}},
-      {"alignment", {{"mode", to_string(result.alignment)}, {"scale", a.scale},
-                     {"translation", {a.translation.x(), a.translation.y(), a.translation.z()}},
-                     {"rotation_column_major", rotation}}},
+      {"poses",
+       {{"estimate", result.estimate_poses},
+        {"groundtruth", result.groundtruth_poses},
+        {"associated", result.associated_poses},
+        {"duration_s", result.duration_s},
+        {"positions_only", result.positions_only}}},
+      {"alignment",
+       {{"mode", to_string(result.alignment)},
+        {"scale", a.scale},
+        {"translation", {a.translation.x(), a.translation.y(), a.translation.z()}},
+        {"rotation_column_major", rotation}}},
       {"ate_translation_m", to_json(result.ate.translation_m)},
       {"ate_rotation_deg", rotation_or_null(to_json(result.ate.rotation_deg))},
-      {"rpe", {{"definition",
-                result.positions_only
-                    ? "positions only: mean over segments of |d_est - d_gt|/L, d the displacement over the segment, "
-                      "aligned estimate"
-                    : "KITTI-style: mean over segments of |t_err|/L and angle(R_err)/L, aligned estimate"},
-               {"count", result.rpe.count},
-               {"translation_percent", result.rpe.translation_percent},
-               {"rotation_deg_per_m", rotation_or_null(result.rpe.rotation_deg_per_m)},
-               {"segments", segments}}},
-      {"drift", {{"definition", result.positions_only ? "|p_est_last - p_gt_last| / gt path length, estimate turned "
-                                                        "by the ATE rotation and anchored at the first position"
-                                                      : "|p_est_last - p_gt_last| / gt path length, estimate "
-                                                        "anchored at the first pose"},
-                 {"final_error_m", result.drift.final_error_m},
-                 {"path_length_m", result.drift.path_length_m},
-                 {"percent", result.drift.percent}}},
+      {"rpe",
+       {{"definition",
+         result.positions_only
+             ? "positions only: mean over segments of |d_est - d_gt|/L, d the displacement over the segment, "
+               "aligned estimate"
+             : "KITTI-style: mean over segments of |t_err|/L and angle(R_err)/L, aligned estimate"},
+        {"count", result.rpe.count},
+        {"translation_percent", result.rpe.translation_percent},
+        {"rotation_deg_per_m", rotation_or_null(result.rpe.rotation_deg_per_m)},
+        {"segments", segments}}},
+      {"drift",
+       {{"definition", result.positions_only ? "|p_est_last - p_gt_last| / gt path length, estimate turned "
+                                               "by the ATE rotation and anchored at the first position"
+                                             : "|p_est_last - p_gt_last| / gt path length, estimate "
+                                               "anchored at the first pose"},
+        {"final_error_m", result.drift.final_error_m},
+        {"path_length_m", result.drift.path_length_m},
+        {"percent", result.drift.percent}}},
   };
 }
 
@@ -185,8 +192,10 @@ std::string format_table(const EvaluationResult& r) {
                        s.max);
   };
   row("ATE trans [m]", r.ate.translation_m);
-  if (r.positions_only) out += fmt::format("{:<22}{:>10}\n", "ATE rot [deg]", "n/a");
-  else row("ATE rot [deg]", r.ate.rotation_deg);
+  if (r.positions_only)
+    out += fmt::format("{:<22}{:>10}\n", "ATE rot [deg]", "n/a");
+  else
+    row("ATE rot [deg]", r.ate.rotation_deg);
   out += fmt::format("\n{:<22}{:>10}{:>14}{:>14}\n", "RPE segment [m]", "count", "trans [%]", "rot [deg/m]");
   const auto rpe_row = [&](const std::string& name, std::size_t count, double translation, double rotation) {
     out += fmt::format("{:<22}{:>10}{:>14.3f}{:>14}\n", name, count, translation,
@@ -195,10 +204,10 @@ std::string format_table(const EvaluationResult& r) {
   for (const auto& s : r.rpe.segments)
     rpe_row(fmt::format("{:.3f}", s.length_m), s.count, s.translation_percent, s.rotation_deg_per_m);
   rpe_row("all", r.rpe.count, r.rpe.translation_percent, r.rpe.rotation_deg_per_m);
-  out += fmt::format("\ndrift: {:.4f} m over {:.3f} m = {:.3f} % (final position error after anchoring the first "
-                     "{}, / ground-truth path length)\n",
-                     r.drift.final_error_m, r.drift.path_length_m, r.drift.percent,
-                     r.positions_only ? "position" : "pose");
+  out += fmt::format(
+      "\ndrift: {:.4f} m over {:.3f} m = {:.3f} % (final position error after anchoring the first "
+      "{}, / ground-truth path length)\n",
+      r.drift.final_error_m, r.drift.path_length_m, r.drift.percent, r.positions_only ? "position" : "pose");
   return out;
 }
 
@@ -211,16 +220,16 @@ FileEvaluation evaluate_files(const std::filesystem::path& estimate, const std::
   if (groundtruth_options.kitti_times) estimate_times = io::read_kitti_times(*groundtruth_options.kitti_times);
   evaluation.estimate_format = io::detect_trajectory_format(estimate);
   const io::Trajectory estimated = io::read_trajectory(estimate, evaluation.estimate_format, estimate_times);
-  options.positions_only = !evaluation.groundtruth.has_orientation ||
-                           evaluation.estimate_format == io::TrajectoryFormat::positions;
+  options.positions_only =
+      !evaluation.groundtruth.has_orientation || evaluation.estimate_format == io::TrajectoryFormat::positions;
   evaluation.result = evaluate(estimated, evaluation.groundtruth.poses, options);
   // A vkvo run's status file splits the errors by how each pose came about.
   evaluation.frames_file = frames;
   if (const auto beside = estimate.parent_path() / "frames.csv"; !frames && std::filesystem::exists(beside))
     evaluation.frames_file = beside;
   if (evaluation.frames_file)
-    evaluation.by_state =
-        evaluate_by_state(estimated, io::read_frame_status(*evaluation.frames_file), evaluation.groundtruth.poses, options);
+    evaluation.by_state = evaluate_by_state(estimated, io::read_frame_status(*evaluation.frames_file),
+                                            evaluation.groundtruth.poses, options);
   return evaluation;
 }
 

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
-#include <yaml-cpp/yaml.h>
 
 #include "eval/alignment.hpp"
 #include "eval/metrics.hpp"
@@ -33,12 +33,12 @@ struct EvaluationResult {
   std::size_t estimate_poses = 0;
   std::size_t groundtruth_poses = 0;
   std::size_t associated_poses = 0;
-  double duration_s = 0;                // first to last associated timestamp
+  double duration_s = 0;  // first to last associated timestamp
   AlignmentMode alignment = AlignmentMode::se3;
   bool positions_only = false;
-  AteResult ate;                         // ate.alignment is the transform applied to the estimate
-  RpeResult rpe;                         // on the aligned estimate (so a sim3 scale is accounted for)
-  DriftResult drift;                     // anchored at the first pose, with the sim3 scale when aligning sim3
+  AteResult ate;      // ate.alignment is the transform applied to the estimate
+  RpeResult rpe;      // on the aligned estimate (so a sim3 scale is accounted for)
+  DriftResult drift;  // anchored at the first pose, with the sim3 scale when aligning sim3
   std::vector<Eigen::Vector3d> aligned_estimate_positions;  // for plots
   std::vector<Eigen::Vector3d> groundtruth_positions;
 };
@@ -52,7 +52,7 @@ EvaluationResult evaluate(const io::Trajectory& estimate, const io::Trajectory& 
 // (interpolated across a gap) and the lost ones (predicted) are measured under that alignment, so that a gap's
 // guesses cannot pull the fit.
 struct StateEvaluation {
-  ErrorStats measured;        // tracked + relocalised
+  ErrorStats measured;  // tracked + relocalised
   ErrorStats bridged;
   ErrorStats lost;
   std::size_t without_status = 0;  // associated poses with no status line at their timestamp (left out)

@@ -24,9 +24,9 @@ double path_length(const std::vector<Eigen::Isometry3d>& poses);
 double rotation_angle_deg(const Eigen::Matrix3d& R);
 
 struct AteResult {
-  Similarity alignment;              // applied to the estimate before measuring
-  ErrorStats translation_m;          // |p_gt - p_est_aligned|
-  ErrorStats rotation_deg;           // angle(R_gt^T R_est_aligned); count 0 when positions only
+  Similarity alignment;      // applied to the estimate before measuring
+  ErrorStats translation_m;  // |p_gt - p_est_aligned|
+  ErrorStats rotation_deg;   // angle(R_gt^T R_est_aligned); count 0 when positions only
   std::vector<double> translation_errors;
 };
 // Aligns (mode) and measures. Throws when alignment is impossible (see align_positions). `positions_only`: a
@@ -46,15 +46,15 @@ struct RpeOptions {
 
 struct RpeSegment {
   double length_m = 0;
-  std::size_t count = 0;                // number of segments of this length
-  double translation_percent = 0;       // mean of |t_err| / length * 100
-  double rotation_deg_per_m = 0;        // mean of angle(R_err) / length (0 when positions only)
+  std::size_t count = 0;           // number of segments of this length
+  double translation_percent = 0;  // mean of |t_err| / length * 100
+  double rotation_deg_per_m = 0;   // mean of angle(R_err) / length (0 when positions only)
 };
 
 struct RpeResult {
   std::vector<RpeSegment> segments;
-  std::size_t count = 0;                // all segments
-  double translation_percent = 0;       // mean over all segments of all lengths (KITTI's averaging)
+  std::size_t count = 0;           // all segments
+  double translation_percent = 0;  // mean over all segments of all lengths (KITTI's averaging)
   double rotation_deg_per_m = 0;
 };
 // KITTI's definition on (already aligned) poses: for a start i and length L, j is the first pose whose ground-truth

@@ -44,7 +44,8 @@ struct Bounds {
 
 }  // namespace
 
-PlotAxes choose_plot_axes(const std::vector<Eigen::Vector3d>& estimate, const std::vector<Eigen::Vector3d>& groundtruth) {
+PlotAxes choose_plot_axes(const std::vector<Eigen::Vector3d>& estimate,
+                          const std::vector<Eigen::Vector3d>& groundtruth) {
   Bounds bounds;
   bounds.add(groundtruth);
   bounds.add(estimate);
@@ -97,8 +98,7 @@ cv::Mat render_trajectory_plot(const std::vector<Eigen::Vector3d>& estimate,
               {kMarginLeft + plot_w / 2 - 20, options.height - 15}, font, 0.55, kText, 1, cv::LINE_AA);
   cv::putText(canvas, fmt::format("{} [m]", kAxisNames[axes.vertical]), {8, kMarginTop - 12}, font, 0.55, kText, 1,
               cv::LINE_AA);
-  if (!options.title.empty())
-    cv::putText(canvas, options.title, {kMarginLeft, 30}, font, 0.6, kText, 1, cv::LINE_AA);
+  if (!options.title.empty()) cv::putText(canvas, options.title, {kMarginLeft, 30}, font, 0.6, kText, 1, cv::LINE_AA);
 
   // Curves: ground truth under the estimate; circle at the start, square at the end.
   const auto draw = [&](const std::vector<Eigen::Vector3d>& points, const cv::Scalar& colour, int thickness) {

@@ -22,7 +22,8 @@ struct PlotAxes {
   int horizontal = 0;
   int vertical = 1;
 };
-PlotAxes choose_plot_axes(const std::vector<Eigen::Vector3d>& estimate, const std::vector<Eigen::Vector3d>& groundtruth);
+PlotAxes choose_plot_axes(const std::vector<Eigen::Vector3d>& estimate,
+                          const std::vector<Eigen::Vector3d>& groundtruth);
 
 // Estimate (blue) and ground truth (black) projected on the chosen axes with equal scale, a metre grid with
 // labelled ticks, start (circle) and end (square) markers and a legend. Either trajectory may be empty.

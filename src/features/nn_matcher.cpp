@@ -67,12 +67,14 @@ struct NnMatcher::Impl {
                 {.m = std::uint32_t(n0), .n = std::uint32_t(n1), .k = std::uint32_t(dim), .b_transposed = true},
                 "similarity");
     const shader::SetSizesPush bp{std::uint32_t(n0), std::uint32_t(n1)};
-    seq->dispatch(best_kernel, {rt::Binding(*similarity), rt::Binding(*best), rt::Binding(*best_value),
-                               rt::Binding(*second)}, bp, {rt::groups_for(rows, 64)}, "nearest");
-    const shader::NnSelectPush sp{
-        std::uint32_t(n0), std::uint32_t(n1), params.max_cosine_distance, params.ratio};
-    seq->dispatch(select_kernel, {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*second),
-                                  rt::Binding(*matches), rt::Binding(*scores)}, sp, {rt::groups_for(n0, 64)}, "select");
+    seq->dispatch(best_kernel,
+                  {rt::Binding(*similarity), rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*second)}, bp,
+                  {rt::groups_for(rows, 64)}, "nearest");
+    const shader::NnSelectPush sp{std::uint32_t(n0), std::uint32_t(n1), params.max_cosine_distance, params.ratio};
+    seq->dispatch(select_kernel,
+                  {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*second), rt::Binding(*matches),
+                   rt::Binding(*scores)},
+                  sp, {rt::groups_for(n0, 64)}, "select");
     seq->end();
     recorded = true;
   }
@@ -100,9 +102,10 @@ PointMatches NnMatcher::match(const PointFeatures& a, const PointFeatures& b) {
   if (a.size() == 0 || b.size() == 0) return result;
   if (a.descriptors.cols() != b.descriptors.cols() || a.descriptors.rows() != Eigen::Index(a.size()) ||
       b.descriptors.rows() != Eigen::Index(b.size()))
-    throw std::invalid_argument(fmt::format("NnMatcher: descriptor matrices {}x{} and {}x{} do not fit {} and {} "
-                                            "keypoints", a.descriptors.rows(), a.descriptors.cols(),
-                                            b.descriptors.rows(), b.descriptors.cols(), a.size(), b.size()));
+    throw std::invalid_argument(fmt::format(
+        "NnMatcher: descriptor matrices {}x{} and {}x{} do not fit {} and {} "
+        "keypoints",
+        a.descriptors.rows(), a.descriptors.cols(), b.descriptors.rows(), b.descriptors.cols(), a.size(), b.size()));
   const std::size_t dim = std::size_t(a.descriptors.cols());
   if (a.size() != s.n0 || b.size() != s.n1 || dim != s.dim || !s.recorded) {
     s.n0 = a.size();

@@ -22,8 +22,8 @@ struct PointFeatures {
 
 // Point matches from image 0 to image 1.
 struct PointMatches {
-  std::vector<int> matches0;        // per keypoint of image 0: index in image 1, or -1
-  std::vector<float> scores0;       // matching confidence per keypoint of image 0 (0 where unmatched)
+  std::vector<int> matches0;   // per keypoint of image 0: index in image 1, or -1
+  std::vector<float> scores0;  // matching confidence per keypoint of image 0 (0 where unmatched)
   std::size_t count() const {
     std::size_t n = 0;
     for (int m : matches0) n += m >= 0;

@@ -48,8 +48,8 @@ SuperGlueParams load_superglue_params(const YAML::Node& section) {
   if (precision != "auto") {
     params.precision = rt::parse_precision(precision);
     if (!params.precision)
-      throw std::runtime_error(fmt::format(
-          "config key 'point_matcher.precision': expected auto, fp32, fp16s or fp16, got '{}'", precision));
+      throw std::runtime_error(
+          fmt::format("config key 'point_matcher.precision': expected auto, fp32, fp16s or fp16, got '{}'", precision));
   }
   return params;
 }
@@ -72,8 +72,10 @@ SuperGlueConfig read_superglue_config(const io::ModelPack& pack) {
   c.bin_score = float(pack.number("bin_score"));
   if (pack.has("sinkhorn_iterations")) c.sinkhorn_iterations = int(pack.integer("sinkhorn_iterations"));
   if (pack.has("attention_channel_order") && pack.string("attention_channel_order") != "dim_major")
-    throw std::runtime_error(fmt::format("model pack '{}': attention_channel_order '{}' is not supported "
-                                         "(expected dim_major)", pack.source(), pack.string("attention_channel_order")));
+    throw std::runtime_error(
+        fmt::format("model pack '{}': attention_channel_order '{}' is not supported "
+                    "(expected dim_major)",
+                    pack.source(), pack.string("attention_channel_order")));
   if (c.descriptor_dim <= 0 || c.heads <= 0 || c.descriptor_dim % c.heads != 0)
     throw std::runtime_error(fmt::format("model pack '{}': descriptor_dim {} is not a multiple of heads {}",
                                          pack.source(), c.descriptor_dim, c.heads));
@@ -141,19 +143,20 @@ struct SuperGlue::Impl {
                                  head_dim % rt::values_per_packed_texel(precision) == 0;
     if (fused_attention && params.shared_attention.value_or(ctx.profile().shared_attention) &&
         shared_attention_bytes(head_dim) <= ctx.caps().max_shared_memory_bytes)
-      attention_shared_kernel.emplace(
-          ctx, rt::KernelSpec{.op = rt::Op::superglue_attention_shared, .precision = precision,
-                              .specialization = {head_dim / 4}, .texel_formats = {rt::packed_texel_format(precision)}});
+      attention_shared_kernel.emplace(ctx, rt::KernelSpec{.op = rt::Op::superglue_attention_shared,
+                                                          .precision = precision,
+                                                          .specialization = {head_dim / 4},
+                                                          .texel_formats = {rt::packed_texel_format(precision)}});
     else if (fused_attention)
-      attention_tiled_kernel.emplace(
-          ctx, rt::KernelSpec{.op = rt::Op::superglue_attention_tiled, .precision = precision,
-                              .specialization = {head_dim / 4, attention_rows_per_invocation},
-                              .texel_formats = {rt::packed_texel_format(precision)}});
+      attention_tiled_kernel.emplace(ctx,
+                                     rt::KernelSpec{.op = rt::Op::superglue_attention_tiled,
+                                                    .precision = precision,
+                                                    .specialization = {head_dim / 4, attention_rows_per_invocation},
+                                                    .texel_formats = {rt::packed_texel_format(precision)}});
     if (params.texel_kernels && ctx.supports_uniform_texel_format(rt::vec4_texel_format(precision))) {
       if (config.descriptor_dim % 4 == 0)
-        scores_tiled_kernel.emplace(
-            ctx, rt::KernelSpec{.op = rt::Op::superglue_scores_tiled,
-                                .texel_formats = {rt::vec4_texel_format(precision)}});
+        scores_tiled_kernel.emplace(ctx, rt::KernelSpec{.op = rt::Op::superglue_scores_tiled,
+                                                        .texel_formats = {rt::vec4_texel_format(precision)}});
     }
     if (params.texel_kernels && ctx.supports_uniform_texel_format(vk::Format::eR32G32B32A32Sfloat)) {
       constexpr auto kFloat4 = vk::Format::eR32G32B32A32Sfloat;
@@ -213,8 +216,8 @@ struct SuperGlue::Impl {
   }
 
   rt::Buffer* make_buffer(std::size_t bytes, const char* name) {
-    buffers.push_back(std::make_unique<rt::Buffer>(context, std::max<std::size_t>(bytes, 16), rt::BufferKind::device,
-                                                   name));
+    buffers.push_back(
+        std::make_unique<rt::Buffer>(context, std::max<std::size_t>(bytes, 16), rt::BufferKind::device, name));
     return buffers.back().get();
   }
 
@@ -256,11 +259,19 @@ struct SuperGlue::Impl {
   rt::Binding bias_of(const Layer& l) const { return rt::Binding(*biases, l.bias_offset, std::size_t(l.out) * 4); }
 
   // y = x W^T + b for `rows` rows; x and y are column blocks of row-major matrices with leading dimensions.
-  void linear(const Layer& l, const rt::Buffer& x, std::uint32_t ldx, const rt::Buffer& y, std::uint32_t ldy,
-              bool relu, bool accumulate, const std::string& label) {
+  void linear(const Layer& l, const rt::Buffer& x, std::uint32_t ldx, const rt::Buffer& y, std::uint32_t ldy, bool relu,
+              bool accumulate, const std::string& label) {
     const rt::Binding bias = bias_of(l);
-    rt::GemmShape s{.m = std::uint32_t(n0 + n1), .n = l.out, .k = l.in, .b_transposed = true, .relu = relu,
-                    .accumulate = accumulate, .lda = ldx, .ldb = l.in, .ldc = ldy, .b_offset = l.weight_offset};
+    rt::GemmShape s{.m = std::uint32_t(n0 + n1),
+                    .n = l.out,
+                    .k = l.in,
+                    .b_transposed = true,
+                    .relu = relu,
+                    .accumulate = accumulate,
+                    .lda = ldx,
+                    .ldb = l.in,
+                    .ldc = ldy,
+                    .b_offset = l.weight_offset};
     gemm.record(*seq, x, *weights, &bias, y, s, label);
   }
 
@@ -294,17 +305,36 @@ struct SuperGlue::Impl {
     }
     const std::uint32_t keys = padded_keys(rows_s);  // score row stride
     gemm.record(*seq, *qkv, *qkv, nullptr, scores,
-                {.m = rows_a, .n = rows_s, .k = head_dim, .b_transposed = true,
-                 .alpha = 1.0f / std::sqrt(float(head_dim)), .lda = 3 * dim, .ldb = 3 * dim, .ldc = keys,
-                 .a_offset = first_a * 3 * dim, .b_offset = first_s * 3 * dim + dim, .batch = heads,
-                 .a_batch_stride = head_dim, .b_batch_stride = head_dim, .c_batch_stride = rows_a * keys},
+                {.m = rows_a,
+                 .n = rows_s,
+                 .k = head_dim,
+                 .b_transposed = true,
+                 .alpha = 1.0f / std::sqrt(float(head_dim)),
+                 .lda = 3 * dim,
+                 .ldb = 3 * dim,
+                 .ldc = keys,
+                 .a_offset = first_a * 3 * dim,
+                 .b_offset = first_s * 3 * dim + dim,
+                 .batch = heads,
+                 .a_batch_stride = head_dim,
+                 .b_batch_stride = head_dim,
+                 .c_batch_stride = rows_a * keys},
                 label + " q.k");
     const shader::SoftmaxPush sp{heads * rows_a, rows_s, keys};
     seq->dispatch(softmax_kernel, {rt::Binding(scores)}, sp, {rt::groups_for(sp.rows, 64)}, label + " softmax");
     gemm.record(*seq, scores, *qkv, nullptr, *state,
-                {.m = rows_a, .n = head_dim, .k = keys, .lda = keys, .ldb = 3 * dim, .ldc = 2 * dim,
-                 .b_offset = first_s * 3 * dim + 2 * dim, .c_offset = first_a * 2 * dim + dim, .batch = heads,
-                 .a_batch_stride = rows_a * keys, .b_batch_stride = head_dim, .c_batch_stride = head_dim},
+                {.m = rows_a,
+                 .n = head_dim,
+                 .k = keys,
+                 .lda = keys,
+                 .ldb = 3 * dim,
+                 .ldc = 2 * dim,
+                 .b_offset = first_s * 3 * dim + 2 * dim,
+                 .c_offset = first_a * 2 * dim + dim,
+                 .batch = heads,
+                 .a_batch_stride = rows_a * keys,
+                 .b_batch_stride = head_dim,
+                 .c_batch_stride = head_dim},
                 label + " p.v");
   }
 
@@ -366,8 +396,8 @@ struct SuperGlue::Impl {
                   {rt::groups_for(rows, 64)}, "argmax");
     const shader::MutualPush mp{std::uint32_t(n0), std::uint32_t(n1), params.match_threshold};
     seq->dispatch(mutual_kernel,
-                  {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*matches), rt::Binding(*match_scores)},
-                  mp, {rt::groups_for(n0, 64)}, "mutual");
+                  {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*matches), rt::Binding(*match_scores)}, mp,
+                  {rt::groups_for(n0, 64)}, "mutual");
     seq->end();
     recorded = true;
   }
@@ -425,7 +455,8 @@ double SuperGlue::flops(std::size_t n0, std::size_t n1) const {
   double total = 0;
   for (const auto& l : impl_->encoder) total += 2.0 * rows * l.out * l.in;
   for (const auto& l : impl_->gnn) {
-    total += 2.0 * rows * (double(l.qkv.out) * l.qkv.in + double(l.mlp0.out) * l.mlp0.in + double(l.mlp1.out) * l.mlp1.in);
+    total +=
+        2.0 * rows * (double(l.qkv.out) * l.qkv.in + double(l.mlp0.out) * l.mlp0.in + double(l.mlp1.out) * l.mlp1.in);
     total += 2.0 * 2.0 * 2.0 * double(n0) * double(n1) * dim;  // q.k and p.v, both directions
   }
   total += 2.0 * rows * dim * dim + 2.0 * double(n0) * double(n1) * dim;  // final projection, scores
@@ -445,10 +476,12 @@ PointMatches SuperGlue::match(const PointFeatures& a, const PointFeatures& b, Ei
 
   const int dim = s.config.descriptor_dim;
   for (const PointFeatures* f : {&a, &b}) {
-    if (f->descriptors.rows() != Eigen::Index(f->size()) || f->descriptors.cols() != dim || f->scores.size() != f->size())
-      throw std::invalid_argument(fmt::format("SuperGlue: {} keypoints need {} scores and {} x {} descriptors "
-                                              "(got {} scores, {} x {})", f->size(), f->size(), f->size(), dim,
-                                              f->scores.size(), f->descriptors.rows(), f->descriptors.cols()));
+    if (f->descriptors.rows() != Eigen::Index(f->size()) || f->descriptors.cols() != dim ||
+        f->scores.size() != f->size())
+      throw std::invalid_argument(fmt::format(
+          "SuperGlue: {} keypoints need {} scores and {} x {} descriptors "
+          "(got {} scores, {} x {})",
+          f->size(), f->size(), f->size(), dim, f->scores.size(), f->descriptors.rows(), f->descriptors.cols()));
     if (f->image_width <= 0 || f->image_height <= 0)
       throw std::invalid_argument("SuperGlue: image_width and image_height are needed to normalise keypoints");
   }
@@ -458,8 +491,8 @@ PointMatches SuperGlue::match(const PointFeatures& a, const PointFeatures& b, Ei
     s.allocate();
     s.recorded = false;
   }
-  const shader::KeypointsPush image{std::uint32_t(s.n0), std::uint32_t(s.n1), float(a.image_width), float(a.image_height),
-                              float(b.image_width), float(b.image_height)};
+  const shader::KeypointsPush image{std::uint32_t(s.n0),   std::uint32_t(s.n1),  float(a.image_width),
+                                    float(a.image_height), float(b.image_width), float(b.image_height)};
   if (image.width0 != s.image_push.width0 || image.height0 != s.image_push.height0 ||
       image.width1 != s.image_push.width1 || image.height1 != s.image_push.height1 || image.n0 != s.image_push.n0 ||
       image.n1 != s.image_push.n1) {

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
 #include <yaml-cpp/yaml.h>
+#include <Eigen/Core>
 
 #include "features/point_matcher.hpp"
 #include "io/model_pack.hpp"
@@ -26,8 +26,8 @@
 namespace vkvo::features {
 
 struct SuperGlueParams {
-  float match_threshold = 0.2f;    // keep mutual matches whose exp(log-assignment) exceeds this
-  int sinkhorn_iterations = 100;   // <= 0: the pack's value
+  float match_threshold = 0.2f;            // keep mutual matches whose exp(log-assignment) exceeds this
+  int sinkhorn_iterations = 100;           // <= 0: the pack's value
   std::optional<rt::Precision> precision;  // nullopt: the device profile's (rt::DeviceProfile::precision)
   // The fused attention, the score matrix and Sinkhorn through texel buffers (superglue_*_tiled.comp) where the
   // device can; false forces what devices with small texel buffers fall back to: attention as q.k GEMM, softmax
@@ -57,8 +57,8 @@ SuperGlueParams load_superglue_params(const YAML::Node& section);
 struct SuperGlueConfig {
   int descriptor_dim = 256;
   int heads = 4;
-  std::vector<int> encoder_widths;        // hidden widths of the keypoint encoder, e.g. 32 64 128 256
-  std::vector<bool> cross_layers;         // per attentional layer: cross (true) or self
+  std::vector<int> encoder_widths;  // hidden widths of the keypoint encoder, e.g. 32 64 128 256
+  std::vector<bool> cross_layers;   // per attentional layer: cross (true) or self
   float bin_score = 1.0f;
   int sinkhorn_iterations = 100;
 };

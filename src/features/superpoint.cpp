@@ -40,14 +40,17 @@ SuperPointParams load_superpoint_params(const YAML::Node& section) {
   }
   std::string winograd = "auto";
   io::read_param(section, "winograd", winograd);
-  if (const auto choice = parse_winograd(winograd)) params.winograd = *choice;
-  else throw std::runtime_error(fmt::format("config key 'winograd': expected auto, on or off, got '{}'", winograd));
+  if (const auto choice = parse_winograd(winograd))
+    params.winograd = *choice;
+  else
+    throw std::runtime_error(fmt::format("config key 'winograd': expected auto, on or off, got '{}'", winograd));
   int tile_side = static_cast<int>(params.winograd_tile);
   io::read_param(section, "winograd_tile", tile_side);
-  if (const auto tile = winograd_tile_from_side(tile_side)) params.winograd_tile = *tile;
-  else throw std::runtime_error(fmt::format("config key 'winograd_tile': expected 4 or 6, got {}", tile_side));
-  if (params.keypoint_threshold < 0.0f)
-    throw std::runtime_error("config key 'keypoint_threshold': must be >= 0");
+  if (const auto tile = winograd_tile_from_side(tile_side))
+    params.winograd_tile = *tile;
+  else
+    throw std::runtime_error(fmt::format("config key 'winograd_tile': expected 4 or 6, got {}", tile_side));
+  if (params.keypoint_threshold < 0.0f) throw std::runtime_error("config key 'keypoint_threshold': must be >= 0");
   if (params.nms_radius < 0) throw std::runtime_error("config key 'nms_radius': must be >= 0");
   return params;
 }
@@ -62,7 +65,7 @@ SuperPoint::SuperPoint(const rt::Context& context, const io::ModelPack& pack, co
   if (pack.has("detector_channels") && pack.integer("detector_channels") != 65)
     throw std::runtime_error(fmt::format("model pack '{}': detector_channels must be 65", pack.source()));
   network_ = std::make_unique<SuperPointNetwork>(context, pack, precision_, params.tiled_kernels, params.winograd,
-                                                  params.winograd_tile);
+                                                 params.winograd_tile);
   descriptor_dim_ = static_cast<int>(network_->convs[convDb].out_channels);
 }
 
@@ -78,8 +81,8 @@ PointFeatures SuperPoint::detect(const cv::Mat& image, SuperPointDense* dense) {
   if (image.empty() || image.type() != CV_8UC1)
     throw std::invalid_argument("SuperPoint::detect: expected a non-empty 8-bit grayscale image (CV_8UC1)");
   if (image.cols < 16 || image.rows < 16)
-    throw std::invalid_argument(fmt::format("SuperPoint::detect: image {}x{} is smaller than 16x16", image.cols,
-                                            image.rows));
+    throw std::invalid_argument(
+        fmt::format("SuperPoint::detect: image {}x{} is smaller than 16x16", image.cols, image.rows));
   SuperPointPlan& plan = plan_for(image.cols, image.rows);
   last_plan_ = &plan;
   last_candidates_ = plan.run(image.ptr<std::uint8_t>(0), image.step[0]);

@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include <opencv2/core/mat.hpp>
 #include <yaml-cpp/yaml.h>
+#include <opencv2/core/mat.hpp>
 
 #include "features/point_features.hpp"
 #include "io/model_pack.hpp"
@@ -24,10 +24,10 @@
 namespace vkvo::features {
 
 struct SuperPointParams {
-  float keypoint_threshold = 0.005f;  // on the softmax score (>= 0)
-  int nms_radius = 4;                 // max-pool NMS window is (2r+1) x (2r+1)
-  int remove_borders = 4;             // pixels dropped at every side of the dense score map
-  int max_keypoints = 400;            // top-k by score; <= 0 keeps every keypoint
+  float keypoint_threshold = 0.005f;       // on the softmax score (>= 0)
+  int nms_radius = 4;                      // max-pool NMS window is (2r+1) x (2r+1)
+  int remove_borders = 4;                  // pixels dropped at every side of the dense score map
+  int max_keypoints = 400;                 // top-k by score; <= 0 keeps every keypoint
   std::optional<rt::Precision> precision;  // nullopt: the device's preferred precision
   // The texel-buffer ("tiled") kernels where the device reads their formats; false runs the storage-buffer
   // kernels every device has (the fallback; tests run the network both ways).
@@ -52,13 +52,13 @@ std::optional<rt::WinogradConv3x3::Tile> winograd_tile_from_side(int side);
 
 // The network's dense outputs, before NMS (the layout of the golden outputs, $VKVO_DATA/golden/superpoint/*).
 struct SuperPointDense {
-  int cells_h = 0, cells_w = 0;     // H/8, W/8 (floor)
-  std::vector<float> scores;        // (cells_h*8) x (cells_w*8), row-major
-  std::vector<float> descriptors;   // descriptor_dim x cells_h x cells_w, L2-normalised per cell
+  int cells_h = 0, cells_w = 0;    // H/8, W/8 (floor)
+  std::vector<float> scores;       // (cells_h*8) x (cells_w*8), row-major
+  std::vector<float> descriptors;  // descriptor_dim x cells_h x cells_w, L2-normalised per cell
 };
 
 struct SuperPointNetwork;  // weights + pipelines (features/superpoint/network.hpp)
-class SuperPointPlan;     // buffers + recorded sequence for one image size
+class SuperPointPlan;      // buffers + recorded sequence for one image size
 
 class SuperPoint {
  public:
@@ -84,7 +84,6 @@ class SuperPoint {
   std::uint32_t last_candidate_count() const { return last_candidates_; }
   // Floating-point operations of the network's convolutions for an image of this size.
   static double network_flops(int width, int height);
-
 
  private:
   SuperPointPlan& plan_for(int width, int height);

@@ -55,8 +55,7 @@ cv::Mat camera_matrix(const io::CameraCalibration& c) {
 cv::Mat distortion_vector(const io::CameraCalibration& c, const char* side) {
   const auto& d = c.distortion_coeffs;
   switch (c.distortion) {
-    case io::DistortionModel::none:
-      return cv::Mat::zeros(4, 1, CV_64F);
+    case io::DistortionModel::none: return cv::Mat::zeros(4, 1, CV_64F);
     case io::DistortionModel::radtan:  // OpenCV order k1 k2 p1 p2 [k3] is the EuRoC order
       if (d.size() != 4 && d.size() != 5)
         throw std::runtime_error(std::string("stereo rig: ") + side + " radtan distortion needs 4 or 5 coefficients");
@@ -112,8 +111,8 @@ StereoRig::StereoRig(const io::StereoCalibration& calib) {
   const cv::Size size(L.width, L.height);
   cv::Mat R1, R2, P1, P2, Q;
   if (fisheye) {
-    cv::fisheye::stereoRectify(K1, D1, K2, D2, size, rot, trans, R1, R2, P1, P2, Q, cv::CALIB_ZERO_DISPARITY, size,
-                               0.0, 1.0);
+    cv::fisheye::stereoRectify(K1, D1, K2, D2, size, rot, trans, R1, R2, P1, P2, Q, cv::CALIB_ZERO_DISPARITY, size, 0.0,
+                               1.0);
     cv::fisheye::initUndistortRectifyMap(K1, D1, R1, P1, size, CV_16SC2, left_map1_, left_map2_);
     cv::fisheye::initUndistortRectifyMap(K2, D2, R2, P2, size, CV_16SC2, right_map1_, right_map2_);
   } else {

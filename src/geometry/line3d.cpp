@@ -28,9 +28,7 @@ Eigen::Matrix<double, 6, 1> PlueckerLine::vector() const {
   return L;
 }
 
-PlueckerLine PlueckerLine::from_vector(const Eigen::Matrix<double, 6, 1>& L) {
-  return {L.head<3>(), L.tail<3>()};
-}
+PlueckerLine PlueckerLine::from_vector(const Eigen::Matrix<double, 6, 1>& L) { return {L.head<3>(), L.tail<3>()}; }
 
 PlueckerLine PlueckerLine::normalized() const {
   const double s = v.norm();
@@ -127,7 +125,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> trim_line(const PlueckerLine& L_worl
       // Closest points of the line P0 + s d and the ray C + t r: normal equations of |P0 + s d - C - t r|^2.
       const Eigen::Vector3d w = P0 - C;
       const double dr = d.dot(r);
-      const double det = dr * dr - 1.0;  // |d| = |r| = 1
+      const double det = dr * dr - 1.0;     // |d| = |r| = 1
       if (std::abs(det) < 1e-12) continue;  // ray parallel to the line
       const double s = (d.dot(w) - dr * r.dot(w)) / det;
       s_min = std::min(s_min, s);

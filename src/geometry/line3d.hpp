@@ -26,7 +26,7 @@ struct PlueckerLine {
   Eigen::Matrix<double, 6, 1> vector() const;
   static PlueckerLine from_vector(const Eigen::Matrix<double, 6, 1>& L);
 
-  PlueckerLine normalized() const;             // |v| = 1
+  PlueckerLine normalized() const;                  // |v| = 1
   Eigen::Vector3d closest_point_to_origin() const;  // (v x n) / |v|^2
   Eigen::Vector3d direction() const { return v.normalized(); }
   double distance_to(const Eigen::Vector3d& X) const;  // Euclidean distance of a point to the line

@@ -18,7 +18,8 @@ TriangulationParams load_triangulation_params(const YAML::Node& section) {
 }
 
 std::optional<Eigen::Vector3d> triangulate_stereo_point(const StereoCamera& stereo, const Eigen::Vector2d& left,
-                                                        const Eigen::Vector2d& right, const TriangulationParams& params) {
+                                                        const Eigen::Vector2d& right,
+                                                        const TriangulationParams& params) {
   if (std::abs(left.y() - right.y()) > params.max_y_diff) return std::nullopt;
   const double disparity = left.x() - right.x();
   if (!(disparity > 0)) return std::nullopt;
@@ -123,7 +124,8 @@ std::optional<PlueckerLine> triangulate_two_view_line(const PinholeCamera& camer
 
 LineTriangulation triangulate_stereo_line(
     const StereoCamera& stereo, const Segment2d& left, const Segment2d& right,
-    const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& points_on_line, const TriangulationParams& params) {
+    const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& points_on_line,
+    const TriangulationParams& params) {
   return triangulate_line(stereo.camera, {Eigen::Isometry3d::Identity(), left}, {stereo.T_left_right(), right},
                           points_on_line, params);
 }

@@ -3,9 +3,9 @@
 #include <optional>
 #include <utility>
 
+#include <yaml-cpp/yaml.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <yaml-cpp/yaml.h>
 
 #include "geometry/camera.hpp"
 #include "geometry/line3d.hpp"
@@ -26,7 +26,8 @@ TriangulationParams load_triangulation_params(const YAML::Node& section);
 // A stereo point match -> point in the rectified left camera frame; nullopt when the row difference or the depth
 // gate fails (including zero / negative disparity).
 std::optional<Eigen::Vector3d> triangulate_stereo_point(const StereoCamera& stereo, const Eigen::Vector2d& left,
-                                                        const Eigen::Vector2d& right, const TriangulationParams& params);
+                                                        const Eigen::Vector2d& right,
+                                                        const TriangulationParams& params);
 
 // Linear (DLT) triangulation from two views, in the world frame; nullopt when the point is not in front of both
 // cameras or the rays are (nearly) parallel.
@@ -62,6 +63,7 @@ std::optional<PlueckerLine> triangulate_two_view_line(const PinholeCamera& camer
 // Stereo convenience: left and right segments of the rectified pair -> line in the left camera frame.
 LineTriangulation triangulate_stereo_line(
     const StereoCamera& stereo, const Segment2d& left, const Segment2d& right,
-    const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& points_on_line, const TriangulationParams& params);
+    const std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& points_on_line,
+    const TriangulationParams& params);
 
 }  // namespace vkvo::geometry

@@ -144,8 +144,8 @@ void apply_per_camera_keys(const YAML::Node& node, const std::string& name, Came
   const auto body_camera = read_transform("T_body_camera");
   const auto camera_body = read_transform("T_camera_body");
   if (body_camera && camera_body)
-    throw std::runtime_error(fmt::format(
-        "config section 'camera.{}': give T_body_camera or T_camera_body, not both", name));
+    throw std::runtime_error(
+        fmt::format("config section 'camera.{}': give T_body_camera or T_camera_body, not both", name));
   if (body_camera) camera.T_body_camera = *body_camera;
   if (camera_body) camera.T_body_camera = camera_body->inverse();
 }

@@ -6,9 +6,9 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <spdlog/spdlog.h>
 
 #include "io/config.hpp"
 
@@ -46,7 +46,8 @@ std::pair<std::size_t, std::size_t> parse_frame_span(const std::string& text) {
 
 bool is_image_file(const fs::path& file) {
   std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   for (const char* known : {".png", ".jpg", ".jpeg", ".pgm", ".ppm", ".bmp", ".tif", ".tiff"})
     if (ext == known) return true;
   return false;
@@ -82,17 +83,11 @@ const StereoFrame& StereoDataset::frame(std::size_t i) const {
   return frames_[i];
 }
 
-StereoImages StereoDataset::load(std::size_t i) const {
-  return {load_left(i), load_right(i)};
-}
+StereoImages StereoDataset::load(std::size_t i) const { return {load_left(i), load_right(i)}; }
 
-cv::Mat StereoDataset::load_left(std::size_t i) const {
-  return load_image(frame(i).left, calibration_.left);
-}
+cv::Mat StereoDataset::load_left(std::size_t i) const { return load_image(frame(i).left, calibration_.left); }
 
-cv::Mat StereoDataset::load_right(std::size_t i) const {
-  return load_image(frame(i).right, calibration_.right);
-}
+cv::Mat StereoDataset::load_right(std::size_t i) const { return load_image(frame(i).right, calibration_.right); }
 
 cv::Mat StereoDataset::load_image(const fs::path& file, const CameraCalibration& camera) const {
   if (!fs::is_regular_file(file)) throw std::runtime_error(fmt::format("{}: image file is missing", file.string()));
@@ -102,14 +97,18 @@ cv::Mat StereoDataset::load_image(const fs::path& file, const CameraCalibration&
   } catch (const cv::Exception& e) {
     throw std::runtime_error(fmt::format("{}: cannot decode image ({})", file.string(), e.what()));
   }
-  if (raw.empty()) throw std::runtime_error(fmt::format("{}: cannot decode image (corrupt or unsupported)", file.string()));
+  if (raw.empty())
+    throw std::runtime_error(fmt::format("{}: cannot decode image (corrupt or unsupported)", file.string()));
 
   cv::Mat gray = raw;
-  if (raw.channels() == 3) cv::cvtColor(raw, gray, cv::COLOR_BGR2GRAY);
-  else if (raw.channels() == 4) cv::cvtColor(raw, gray, cv::COLOR_BGRA2GRAY);
+  if (raw.channels() == 3)
+    cv::cvtColor(raw, gray, cv::COLOR_BGR2GRAY);
+  else if (raw.channels() == 4)
+    cv::cvtColor(raw, gray, cv::COLOR_BGRA2GRAY);
   else if (raw.channels() != 1)
     throw std::runtime_error(fmt::format("{}: unsupported channel count {}", file.string(), raw.channels()));
-  if (gray.depth() == CV_16U) gray.convertTo(gray, CV_8U, 1.0 / 256.0);
+  if (gray.depth() == CV_16U)
+    gray.convertTo(gray, CV_8U, 1.0 / 256.0);
   else if (gray.depth() != CV_8U)
     throw std::runtime_error(fmt::format("{}: unsupported pixel depth (expected 8 or 16 bit)", file.string()));
 
@@ -121,7 +120,8 @@ cv::Mat StereoDataset::load_image(const fs::path& file, const CameraCalibration&
 
 cv::Size StereoDataset::image_size(const fs::path& file) {
   const cv::Mat image = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
-  if (image.empty()) throw std::runtime_error(fmt::format("{}: cannot decode image (corrupt or unsupported)", file.string()));
+  if (image.empty())
+    throw std::runtime_error(fmt::format("{}: cannot decode image (corrupt or unsupported)", file.string()));
   return image.size();
 }
 
@@ -144,7 +144,8 @@ void StereoDataset::finish(const DatasetOptions& options, const std::string& cal
   std::vector<StereoFrame> selected;
   selected.reserve((last - range.first) / range.stride + 1);
   const auto skipped = [&](std::size_t i) {
-    return std::any_of(range.skip.begin(), range.skip.end(), [&](const auto& s) { return i >= s.first && i <= s.second; });
+    return std::any_of(range.skip.begin(), range.skip.end(),
+                       [&](const auto& s) { return i >= s.first && i <= s.second; });
   };
   for (std::size_t i = range.first; i <= last; i += range.stride)
     if (!skipped(i)) selected.push_back(frames_[i]);
@@ -159,9 +160,9 @@ std::unique_ptr<StereoDataset> open_dataset(const fs::path& path, const DatasetO
   if (!fs::exists(path)) throw std::runtime_error(fmt::format("{}: dataset path does not exist", path.string()));
   if (EurocDataset::find_root(path)) return std::make_unique<EurocDataset>(path, options);
   if (KittiDataset::find_root(path)) return std::make_unique<KittiDataset>(path, options);
-  throw std::runtime_error(fmt::format(
-      "{}: not a recognised dataset (expected EuRoC mav0/cam0,cam1 or KITTI image_0/image_1 + calib.txt)",
-      path.string()));
+  throw std::runtime_error(
+      fmt::format("{}: not a recognised dataset (expected EuRoC mav0/cam0,cam1 or KITTI image_0/image_1 + calib.txt)",
+                  path.string()));
 }
 
 }  // namespace vkvo::io

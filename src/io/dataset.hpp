@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include <opencv2/core.hpp>
 #include <yaml-cpp/yaml.h>
+#include <opencv2/core.hpp>
 
 #include "io/calibration.hpp"
 
@@ -23,7 +23,7 @@ const char* to_string(DatasetKind kind);
 struct StereoFrame {
   std::size_t sequence_index = 0;  // index in the full sequence (before the frame range is applied)
   std::int64_t timestamp_ns = 0;
-  double timestamp_s = 0;          // same instant in seconds (loses sub-microsecond digits for EuRoC epochs)
+  double timestamp_s = 0;  // same instant in seconds (loses sub-microsecond digits for EuRoC epochs)
   std::filesystem::path left;
   std::filesystem::path right;
 };
@@ -58,7 +58,8 @@ struct DatasetOptions {
 bool is_image_file(const std::filesystem::path& file);
 
 // Reads a `dataset:` config section: first_frame (0), last_frame (-1 = to the end, inclusive), stride (1),
-// skip (a list of "A-B" frame spans to leave out, []), max_stereo_dt_ms (1.0). `camera` is the `camera:` section kept as overrides (may be empty).
+// skip (a list of "A-B" frame spans to leave out, []), max_stereo_dt_ms (1.0). `camera` is the `camera:` section kept
+// as overrides (may be empty).
 DatasetOptions load_dataset_options(const YAML::Node& dataset_section, const YAML::Node& camera_section = {});
 
 class StereoDataset {

@@ -54,9 +54,8 @@ std::vector<CameraEntry> read_camera_folder(const fs::path& cam_dir) {
     try {
       timestamp_ns = parse_timestamp_ns(entry.path().stem().string(), entry.path(), 0);
     } catch (const std::runtime_error&) {
-      throw std::runtime_error(fmt::format(
-          "{}: without {} every image must be named by its timestamp in nanoseconds", entry.path().string(),
-          (cam_dir / "data.csv").string()));
+      throw std::runtime_error(fmt::format("{}: without {} every image must be named by its timestamp in nanoseconds",
+                                           entry.path().string(), (cam_dir / "data.csv").string()));
     }
     entries.push_back({timestamp_ns, entry.path()});
   }
@@ -183,8 +182,9 @@ EurocDataset::EurocDataset(const fs::path& path, const DatasetOptions& options) 
     } else if (config_gives_cameras) {
       source += fmt::format(" ({} missing)", cam);
     } else {
-      throw std::runtime_error(fmt::format(
-          "{}: calibration file is missing (or give the cameras in the config's camera section)", sensor_yaml.string()));
+      throw std::runtime_error(
+          fmt::format("{}: calibration file is missing (or give the cameras in the config's camera section)",
+                      sensor_yaml.string()));
     }
     if (camera.width <= 0 || camera.height <= 0) {
       if (images.empty()) throw std::runtime_error(fmt::format("{}: lists no images", (root_ / cam).string()));
@@ -219,7 +219,8 @@ EurocDataset::EurocDataset(const fs::path& path, const DatasetOptions& options) 
     }
   }
   unpaired += (left.size() - i) + (right.size() - j);
-  if (unpaired > 0) spdlog::warn("{}: {} camera images have no stereo partner and are skipped", root_.string(), unpaired);
+  if (unpaired > 0)
+    spdlog::warn("{}: {} camera images have no stereo partner and are skipped", root_.string(), unpaired);
 
   if (fs::is_regular_file(root_ / "state_groundtruth_estimate0" / "data.csv"))
     groundtruth_path_ = root_ / "state_groundtruth_estimate0" / "data.csv";

@@ -42,8 +42,8 @@ CameraCalibration read_camera(const YAML::Node& cam, const fs::path& file, const
   CameraCalibration camera;
   const YAML::Node model = cam["camera_model"];
   if (model.IsDefined() && model.as<std::string>() != "pinhole")
-    throw std::runtime_error(fmt::format("{}: {}.camera_model '{}' is not supported (pinhole only)", file.string(), name,
-                                         model.as<std::string>()));
+    throw std::runtime_error(fmt::format("{}: {}.camera_model '{}' is not supported (pinhole only)", file.string(),
+                                         name, model.as<std::string>()));
   const auto intrinsics = required_numbers(cam["intrinsics"], file, name + ".intrinsics", 4);
   camera.fx = intrinsics[0];
   camera.fy = intrinsics[1];
@@ -66,7 +66,8 @@ CameraCalibration read_camera(const YAML::Node& cam, const fs::path& file, const
 }  // namespace
 
 StereoCalibration read_kalibr_camchain(const fs::path& file) {
-  if (!fs::is_regular_file(file)) throw std::runtime_error(fmt::format("{}: Kalibr camchain file is missing", file.string()));
+  if (!fs::is_regular_file(file))
+    throw std::runtime_error(fmt::format("{}: Kalibr camchain file is missing", file.string()));
   const YAML::Node root = load_yaml_file(file);
   if (!root.IsMap()) throw std::runtime_error(fmt::format("{}: expected a YAML map", file.string()));
   for (const char* cam : {"cam0", "cam1"})

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <Eigen/Core>
 
 #include "io/dataset.hpp"
 #include "io/text_utils.hpp"
@@ -39,9 +39,12 @@ StereoCalibration read_kitti_calib(const fs::path& calib_txt) {
     if (!fields.empty() && fields.front().back() == ':') {  // "P0: ..." as in the official files
       const std::string label = fields.front().substr(0, fields.front().size() - 1);
       fields.erase(fields.begin());
-      if (label == "P0") slot = 0;
-      else if (label == "P1") slot = 1;
-      else return;  // P2, P3, Tr: colour cameras and velodyne, not used
+      if (label == "P0")
+        slot = 0;
+      else if (label == "P1")
+        slot = 1;
+      else
+        return;  // P2, P3, Tr: colour cameras and velodyne, not used
     } else {
       if (unlabelled >= 2) return;
       slot = static_cast<int>(unlabelled++);
@@ -89,9 +92,9 @@ std::optional<fs::path> KittiDataset::find_root(const fs::path& path) {
 KittiDataset::KittiDataset(const fs::path& path, const DatasetOptions& options) {
   const auto root = find_root(path);
   if (!root)
-    throw std::runtime_error(fmt::format(
-        "{}: not a KITTI sequence (no image_0/image_1 or image_l/image_r folders, or several sequences)",
-        path.string()));
+    throw std::runtime_error(
+        fmt::format("{}: not a KITTI sequence (no image_0/image_1 or image_l/image_r folders, or several sequences)",
+                    path.string()));
   root_ = *root;
   name_ = root_.filename().string();
   const ImageFolders folders = *image_folders(root_);
@@ -107,8 +110,8 @@ KittiDataset::KittiDataset(const fs::path& path, const DatasetOptions& options) 
     times_path_ = root_ / "times.txt";
     times = read_kitti_times(*times_path_);
     if (times.size() < left_images.size())
-      throw std::runtime_error(fmt::format("{}: {} timestamps for {} images", times_path_->string(), times.size(),
-                                           left_images.size()));
+      throw std::runtime_error(
+          fmt::format("{}: {} timestamps for {} images", times_path_->string(), times.size(), left_images.size()));
   }
 
   // Timestamps are indexed by position in the full image list, so a missing right image does not shift them.
@@ -133,8 +136,10 @@ KittiDataset::KittiDataset(const fs::path& path, const DatasetOptions& options) 
                  1.0 / nominal_frame_period_s);
 
   std::string source = (root_ / "calib.txt").string();
-  if (fs::is_regular_file(root_ / "calib.txt")) calibration_ = read_kitti_calib(root_ / "calib.txt");
-  else source += " (missing)";
+  if (fs::is_regular_file(root_ / "calib.txt"))
+    calibration_ = read_kitti_calib(root_ / "calib.txt");
+  else
+    source += " (missing)";
   // calib.txt has no image size: take it from the first image.
   if (!frames_.empty()) {
     const cv::Size size = image_size(frames_.front().left);

@@ -10,9 +10,9 @@
 namespace vkvo::io {
 
 struct MapGeometry {
-  std::vector<Eigen::Vector3d> points;                                   // light grey vertices
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> lines;        // red edges (endpoint pairs)
-  std::vector<Eigen::Vector3d> trajectory;                               // green polyline of camera centres
+  std::vector<Eigen::Vector3d> points;                             // light grey vertices
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> lines;  // red edges (endpoint pairs)
+  std::vector<Eigen::Vector3d> trajectory;                         // green polyline of camera centres
 };
 
 // Vertex order: points, then 2 per line (start, end), then trajectory positions. Written to a temporary file and

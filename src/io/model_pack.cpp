@@ -90,8 +90,8 @@ class MetaReader {
  private:
   void need(std::size_t size, const char* what) const {
     if (size > bytes_.size() - pos_)
-      throw std::runtime_error(fmt::format("model pack '{}': corrupt metadata: {} runs past the end of the table",
-                                           source_, what));
+      throw std::runtime_error(
+          fmt::format("model pack '{}': corrupt metadata: {} runs past the end of the table", source_, what));
   }
   std::span<const std::byte> bytes_;
   const std::string& source_;
@@ -173,16 +173,17 @@ ModelPack ModelPack::parse(std::span<const std::byte> bytes, NetworkKind expecte
   pack.source_ = source;
   pack.version_ = get_at<std::uint32_t>(bytes, kVersionAt);
   if (pack.version_ != kPackFormatVersion)
-    throw fail(fmt::format("format version {} is not supported (this build reads version {}); convert the model "
-                           "again with this build's `vkvo convert`",
-                           pack.version_, kPackFormatVersion));
+    throw fail(
+        fmt::format("format version {} is not supported (this build reads version {}); convert the model "
+                    "again with this build's `vkvo convert`",
+                    pack.version_, kPackFormatVersion));
 
   const auto file_size = get_at<std::uint64_t>(bytes, kFileSizeAt);
   if (bytes.size() < file_size)
     throw fail(fmt::format("truncated: the header says {} bytes, the file has {}", file_size, bytes.size()));
   if (bytes.size() > file_size)
-    throw fail(fmt::format("{} bytes of trailing data after the {} bytes the header declares",
-                           bytes.size() - file_size, file_size));
+    throw fail(fmt::format("{} bytes of trailing data after the {} bytes the header declares", bytes.size() - file_size,
+                           file_size));
 
   const auto stored_checksum = get_at<std::uint64_t>(bytes, kChecksumAt);
   const auto computed_checksum = pack_checksum(bytes);
@@ -196,8 +197,8 @@ ModelPack ModelPack::parse(std::span<const std::byte> bytes, NetworkKind expecte
     throw fail(fmt::format("unknown network kind {}", kind_value));
   pack.kind_ = static_cast<NetworkKind>(kind_value);
   if (pack.kind_ != expected)
-    throw fail(fmt::format("holds a {} network, but a {} network was asked for", to_string(pack.kind_),
-                           to_string(expected)));
+    throw fail(
+        fmt::format("holds a {} network, but a {} network was asked for", to_string(pack.kind_), to_string(expected)));
 
   const auto meta_offset = get_at<std::uint64_t>(bytes, kMetaOffsetAt);
   const auto meta_size = get_at<std::uint64_t>(bytes, kMetaSizeAt);
@@ -252,8 +253,8 @@ ModelPack ModelPack::parse(std::span<const std::byte> bytes, NetworkKind expecte
       throw fail(fmt::format("tensor '{}' ({}): {} bytes stored, its shape and layout '{}' need {}", t.name,
                              to_string(t.dtype), t.byte_size, t.layout, expected_bytes));
     if (t.offset % kPackAlignment != 0 || t.offset > data_size || t.byte_size > data_size - t.offset)
-      throw fail(fmt::format("tensor '{}' ({}): data range [{}, +{}) is misaligned or outside the data block",
-                             t.name, to_string(t.dtype), t.offset, t.byte_size));
+      throw fail(fmt::format("tensor '{}' ({}): data range [{}, +{}) is misaligned or outside the data block", t.name,
+                             to_string(t.dtype), t.offset, t.byte_size));
     if (pack.has_tensor(t.name, t.dtype))
       throw fail(fmt::format("tensor '{}' ({}) appears twice in the table", t.name, to_string(t.dtype)));
     pack.tensors_.push_back(std::move(t));
@@ -261,8 +262,8 @@ ModelPack ModelPack::parse(std::span<const std::byte> bytes, NetworkKind expecte
   if (!meta.at_end()) throw fail("corrupt metadata: unread bytes after the tensor table");
 
   pack.data_size_ = data_size;
-  pack.data_.reset(static_cast<std::byte*>(::operator new[](std::max<std::size_t>(data_size, 1),
-                                                            std::align_val_t{kPackAlignment})));
+  pack.data_.reset(
+      static_cast<std::byte*>(::operator new[](std::max<std::size_t>(data_size, 1), std::align_val_t{kPackAlignment})));
   std::memcpy(pack.data_.get(), bytes.data() + data_offset, data_size);
   return pack;
 }
@@ -306,7 +307,8 @@ const HyperValue& ModelPack::hyper(std::string_view key) const {
 
 double ModelPack::number(std::string_view key) const {
   const auto* value = std::get_if<double>(&hyper(key));
-  if (!value) throw std::runtime_error(fmt::format("model pack '{}': hyper-parameter '{}' is not a number", source_, key));
+  if (!value)
+    throw std::runtime_error(fmt::format("model pack '{}': hyper-parameter '{}' is not a number", source_, key));
   return *value;
 }
 
@@ -320,7 +322,8 @@ std::int64_t ModelPack::integer(std::string_view key) const {
 
 const std::string& ModelPack::string(std::string_view key) const {
   const auto* value = std::get_if<std::string>(&hyper(key));
-  if (!value) throw std::runtime_error(fmt::format("model pack '{}': hyper-parameter '{}' is not a string", source_, key));
+  if (!value)
+    throw std::runtime_error(fmt::format("model pack '{}': hyper-parameter '{}' is not a string", source_, key));
   return *value;
 }
 
@@ -338,8 +341,10 @@ void ModelPackWriter::add_tensor(const std::string& name, std::vector<std::int64
                                  std::span<const float> values, std::initializer_list<DType> dtypes) {
   const std::size_t count = stored_element_count(layout, shape);
   if (values.size() != count)
-    throw std::invalid_argument(fmt::format("model pack tensor '{}': {} values given, layout '{}' of this shape "
-                                            "stores {}", name, values.size(), layout, count));
+    throw std::invalid_argument(
+        fmt::format("model pack tensor '{}': {} values given, layout '{}' of this shape "
+                    "stores {}",
+                    name, values.size(), layout, count));
   for (const DType dtype : dtypes) {
     for (const auto& e : entries_)
       if (e.info.name == name && e.info.dtype == dtype)

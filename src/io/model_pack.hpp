@@ -57,10 +57,10 @@ std::uint64_t fnv1a64(std::span<const std::byte> bytes, std::uint64_t state = kF
 struct PackedTensor {
   std::string name;
   DType dtype = DType::fp32;
-  std::string layout;                // "o4" | "oi" | "dense"
-  std::vector<std::int64_t> shape;   // logical shape
-  std::uint64_t offset = 0;          // bytes from the start of the data block, a multiple of kPackAlignment
-  std::uint64_t byte_size = 0;       // stored bytes (layout padding included)
+  std::string layout;               // "o4" | "oi" | "dense"
+  std::vector<std::int64_t> shape;  // logical shape
+  std::uint64_t offset = 0;         // bytes from the start of the data block, a multiple of kPackAlignment
+  std::uint64_t byte_size = 0;      // stored bytes (layout padding included)
 
   std::size_t logical_element_count() const;
   std::size_t stored_element_count() const { return byte_size / dtype_bytes(dtype); }
@@ -93,7 +93,9 @@ class ModelPack {
   std::span<const std::byte> data_block() const { return {data_.get(), data_size_}; }
 
   // Hyper-parameters. Getters throw naming the file and the key when it is missing or of another type.
-  const std::map<std::string, HyperValue, std::less<>>& hyper_parameters() const { return hyper_; }  // all (copying a pack)
+  const std::map<std::string, HyperValue, std::less<>>& hyper_parameters() const {
+    return hyper_;
+  }  // all (copying a pack)
   bool has(std::string_view key) const { return hyper_.find(key) != hyper_.end(); }
   double number(std::string_view key) const;
   std::int64_t integer(std::string_view key) const;  // a number that must be integral

@@ -11,8 +11,8 @@
 namespace vkvo::io {
 
 struct NpyArray {
-  std::vector<size_t> shape;  // empty for a 0-d array
-  std::string dtype;          // NumPy descr, e.g. "<f4", "<i4", "<f8", "<i8", "|u1"
+  std::vector<size_t> shape;    // empty for a 0-d array
+  std::string dtype;            // NumPy descr, e.g. "<f4", "<i4", "<f8", "<i8", "|u1"
   std::vector<std::byte> data;  // raw element bytes, C order
 
   size_t element_count() const;  // product of shape (1 for a 0-d array)

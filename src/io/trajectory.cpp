@@ -51,9 +51,7 @@ TumTrajectoryWriter::~TumTrajectoryWriter() {
   if (file_) std::fclose(file_);
 }
 
-void TumTrajectoryWriter::write(double t, const Eigen::Isometry3d& pose) {
-  write_line(fmt::format("{:.9f}", t), pose);
-}
+void TumTrajectoryWriter::write(double t, const Eigen::Isometry3d& pose) { write_line(fmt::format("{:.9f}", t), pose); }
 
 void TumTrajectoryWriter::write_ns(std::int64_t timestamp_ns, const Eigen::Isometry3d& pose) {
   write_text(tum_line_ns(timestamp_ns, pose));
@@ -142,9 +140,9 @@ Trajectory read_euroc_csv(const fs::path& file, std::size_t* columns) {
     if (column_count == 0) column_count = fields.size();
     const std::int64_t ns = parse_timestamp_ns(fields[0], file, line_number);
     const auto v = parse_all(std::vector<std::string>(fields.begin() + 1, fields.begin() + 8), file, line_number);
-    trajectory.push_back({static_cast<double>(ns) * 1e-9,
-                          pose_from({v[0], v[1], v[2]}, Eigen::Quaterniond(v[3], v[4], v[5], v[6]), file,
-                                    line_number)});
+    trajectory.push_back(
+        {static_cast<double>(ns) * 1e-9,
+         pose_from({v[0], v[1], v[2]}, Eigen::Quaterniond(v[3], v[4], v[5], v[6]), file, line_number)});
   });
   if (columns) *columns = column_count;
   return trajectory;
@@ -185,8 +183,7 @@ Trajectory read_kitti_poses(const fs::path& file, const std::vector<double>& tim
           fmt::format("{}:{}: expected 12 numbers (3x4 pose), got {}", file.string(), line_number, fields.size()));
     const std::size_t index = trajectory.size();
     if (!times.empty() && index >= times.size())
-      throw std::runtime_error(
-          fmt::format("{}: more poses than the {} timestamps given", file.string(), times.size()));
+      throw std::runtime_error(fmt::format("{}: more poses than the {} timestamps given", file.string(), times.size()));
     Eigen::Isometry3d pose;
     try {
       pose = isometry_from_row_major(parse_all(fields, file, line_number));
@@ -206,9 +203,10 @@ TrajectoryFormat detect_trajectory_format(const fs::path& file) {
   if (fields.size() == 12) return TrajectoryFormat::kitti;
   if (fields.size() == 8) return TrajectoryFormat::tum;
   if (fields.size() == 4) return TrajectoryFormat::positions;
-  throw std::runtime_error(fmt::format("{}: unknown trajectory format ({} fields on the first line; expected TUM "
-                                       "(8), KITTI (12), EuRoC CSV or positions 't x y z' (4))",
-                                       file.string(), fields.size()));
+  throw std::runtime_error(
+      fmt::format("{}: unknown trajectory format ({} fields on the first line; expected TUM "
+                  "(8), KITTI (12), EuRoC CSV or positions 't x y z' (4))",
+                  file.string(), fields.size()));
 }
 
 Trajectory read_trajectory(const fs::path& file, TrajectoryFormat format, const std::vector<double>& kitti_times) {
@@ -234,7 +232,6 @@ std::optional<fs::path> find_kitti_times(const fs::path& poses_file) {
   if (fs::is_regular_file(official)) return official;
   return std::nullopt;
 }
-
 
 }  // namespace
 
@@ -262,13 +259,16 @@ GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& opt
     }
     case TrajectoryFormat::positions:
       if (frame == PoseFrame::body)
-        throw std::runtime_error(fmt::format("{}: positions only: body poses cannot be converted to the camera "
-                                             "without their orientation", file.string()));
+        throw std::runtime_error(
+            fmt::format("{}: positions only: body poses cannot be converted to the camera "
+                        "without their orientation",
+                        file.string()));
       gt.poses = read_positions(file);
       gt.has_orientation = false;
       frame = PoseFrame::camera;  // the tracked point's frame is unknown; nothing to convert without rotations
-      gt.note = "positions only (no orientation): ATE on positions, RPE on displacements, no rotation errors; "
-                "the tracked point's offset from the camera is in the errors";
+      gt.note =
+          "positions only (no orientation): ATE on positions, RPE on displacements, no rotation errors; "
+          "the tracked point's offset from the camera is in the errors";
       break;
     default:
       gt.poses = read_tum(file);
@@ -288,8 +288,10 @@ GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& opt
     std::optional<Eigen::Isometry3d> T_body_camera = options.T_body_camera;
     const fs::path guess = file.parent_path().parent_path() / "cam0" / "sensor.yaml";
     if (!T_body_camera) {
-      if (options.sensor_yaml) gt.sensor_yaml = options.sensor_yaml;
-      else if (fs::is_regular_file(guess)) gt.sensor_yaml = guess;
+      if (options.sensor_yaml)
+        gt.sensor_yaml = options.sensor_yaml;
+      else if (fs::is_regular_file(guess))
+        gt.sensor_yaml = guess;
       if (gt.sensor_yaml) T_body_camera = read_euroc_camera_yaml(*gt.sensor_yaml).T_body_camera;
     }
     if (T_body_camera) {
@@ -300,9 +302,10 @@ GroundTruth read_groundtruth(const fs::path& file, const GroundTruthOptions& opt
                              gt.sensor_yaml ? gt.sensor_yaml->string() : std::string("the calibration"));
     } else {
       gt.note += "; body (IMU) poses, no cam0 sensor.yaml found: errors include the camera lever arm";
-      spdlog::warn("{}: ground truth is the body pose and no cam0 sensor.yaml was found (pass one to convert it to "
-                   "the camera frame); errors will include the body-camera lever arm",
-                   file.string());
+      spdlog::warn(
+          "{}: ground truth is the body pose and no cam0 sensor.yaml was found (pass one to convert it to "
+          "the camera frame); errors will include the body-camera lever arm",
+          file.string());
     }
   }
   if (orientation == GroundTruthOrientation::none && gt.has_orientation) {  // after the conversion, which used them

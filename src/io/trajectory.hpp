@@ -109,8 +109,8 @@ struct GroundTruthOptions {
 struct GroundTruth {
   Trajectory poses;  // left-camera poses in the world when body_to_camera_applied or the file is camera-frame
   TrajectoryFormat format = TrajectoryFormat::automatic;
-  PoseFrame frame = PoseFrame::camera;         // the frame of `poses` after conversion
-  bool has_orientation = true;                 // false: positions only (their rotations are identity)
+  PoseFrame frame = PoseFrame::camera;  // the frame of `poses` after conversion
+  bool has_orientation = true;          // false: positions only (their rotations are identity)
   bool body_to_camera_applied = false;
   std::optional<std::filesystem::path> sensor_yaml;  // where T_BS came from (unset when given directly)
   std::string note;                                  // a human-readable account of the above

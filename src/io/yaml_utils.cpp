@@ -82,9 +82,8 @@ Eigen::Isometry3d isometry_from_row_major(const std::vector<double>& values) {
   }
   const double orthonormality_error = (rotation * rotation.transpose() - Eigen::Matrix3d::Identity()).norm();
   if (orthonormality_error > 1e-3 || rotation.determinant() < 0)
-    throw std::invalid_argument(
-        fmt::format("rotation part is not a rotation (|R R^T - I| = {:.3g}, det = {:.4f})", orthonormality_error,
-                    rotation.determinant()));
+    throw std::invalid_argument(fmt::format("rotation part is not a rotation (|R R^T - I| = {:.3g}, det = {:.4f})",
+                                            orthonormality_error, rotation.determinant()));
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   // Files carry ~10 digits: project onto SO(3) so that later compositions stay rigid.
   T.linear() = Eigen::Quaterniond(rotation).normalized().toRotationMatrix();

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <yaml-cpp/yaml.h>
+#include <Eigen/Geometry>
 
 #include "io/calibration.hpp"
 

@@ -104,7 +104,6 @@ void fuse_landmark(std::map<Id, Landmark>& table, std::vector<Id> Frame::*ids, s
   table.erase(from);
 }
 
-
 }  // namespace
 
 KeyFrame& Map::add_keyframe(const Frame& frame) {
@@ -193,8 +192,8 @@ std::pair<int, int> Map::cull(const MapParams& params) {
   const Id last = last_keyframe_id();
   return {cull_table(points_, &Frame::point_ids, keyframes_, params.min_point_observations,
                      params.culling_grace_keyframes, last),
-          cull_table(lines_, &Frame::line_ids, keyframes_, params.min_line_observations,
-                     params.culling_grace_keyframes, last)};
+          cull_table(lines_, &Frame::line_ids, keyframes_, params.min_line_observations, params.culling_grace_keyframes,
+                     last)};
 }
 
 std::vector<std::pair<Id, int>> Map::covisible_keyframes(Id kf_id, int min_shared) const {

@@ -12,10 +12,10 @@
 #include <utility>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
-#include <yaml-cpp/yaml.h>
 
 #include "geometry/line3d.hpp"
 
@@ -62,14 +62,14 @@ struct KeyFrame : Frame {
 struct MapPoint {
   Id id = kInvalidId;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world
-  std::map<Id, int> observations;                       // keyframe id -> keypoint index
+  std::map<Id, int> observations;                      // keyframe id -> keypoint index
   Id first_keyframe = kInvalidId;
   bool bad = false;  // flagged for culling (e.g. by bundle adjustment)
 };
 
 struct MapLine {
   Id id = kInvalidId;
-  geometry::PlueckerLine line;  // world, |v| = 1
+  geometry::PlueckerLine line;     // world, |v| = 1
   std::map<Id, int> observations;  // keyframe id -> line feature index
   Id first_keyframe = kInvalidId;
   bool bad = false;

@@ -54,8 +54,8 @@ ImageArgument image_argument(const py::handle& image, const char* what) {
   const bool grey = array.ndim() == 2 || (array.ndim() == 3 && array.shape(2) == 1);
   const bool bgr = array.ndim() == 3 && array.shape(2) == 3;
   if (!grey && !bgr)
-    raise(PyExc_ValueError, fmt::format("{}: expected shape (H, W) or (H, W, 3) (BGR), got {}", what,
-                                        shape_text(array)));
+    raise(PyExc_ValueError,
+          fmt::format("{}: expected shape (H, W) or (H, W, 3) (BGR), got {}", what, shape_text(array)));
   if (array.shape(0) == 0 || array.shape(1) == 0)
     raise(PyExc_ValueError, fmt::format("{}: the image is empty, shape {}", what, shape_text(array)));
   ImageArgument result{py::array_t<std::uint8_t, py::array::c_style>::ensure(array), {}};
@@ -76,8 +76,8 @@ cv::Mat grey(const cv::Mat& image) {
 features::PointFeatures features_argument(const py::handle& features, const char* what,
                                           std::pair<int, int> image_size) {
   if (py::isinstance<py::array>(features) || !py::isinstance<py::sequence>(features) || py::len(features) < 3)
-    raise(PyExc_TypeError, fmt::format("{}: expected (keypoints, scores, descriptors) as SuperPoint.detect returns",
-                                       what));
+    raise(PyExc_TypeError,
+          fmt::format("{}: expected (keypoints, scores, descriptors) as SuperPoint.detect returns", what));
   const py::sequence parts = py::reinterpret_borrow<py::sequence>(features);
   const auto keypoints = float_argument(parts[0], fmt::format("{} keypoints", what).c_str());
   const auto scores = float_argument(parts[1], fmt::format("{} scores", what).c_str());
@@ -86,11 +86,11 @@ features::PointFeatures features_argument(const py::handle& features, const char
     raise(PyExc_ValueError, fmt::format("{} keypoints: expected shape (N, 2), got {}", what, shape_text(keypoints)));
   const py::ssize_t n = keypoints.shape(0);
   if (scores.ndim() != 1 || scores.shape(0) != n)
-    raise(PyExc_ValueError, fmt::format("{} scores: expected shape ({},) for the {} keypoints, got {}", what, n, n,
-                                        shape_text(scores)));
+    raise(PyExc_ValueError,
+          fmt::format("{} scores: expected shape ({},) for the {} keypoints, got {}", what, n, n, shape_text(scores)));
   if (descriptors.ndim() != 2 || descriptors.shape(0) != n || descriptors.shape(1) == 0)
-    raise(PyExc_ValueError, fmt::format("{} descriptors: expected shape ({}, D) for the {} keypoints, got {}", what,
-                                        n, n, shape_text(descriptors)));
+    raise(PyExc_ValueError, fmt::format("{} descriptors: expected shape ({}, D) for the {} keypoints, got {}", what, n,
+                                        n, shape_text(descriptors)));
   features::PointFeatures f;
   f.image_width = image_size.first;
   f.image_height = image_size.second;
@@ -128,8 +128,7 @@ py::array_t<std::uint8_t> image_to_python(const cv::Mat& image) {
   if (image.channels() > 1) shape.push_back(image.channels());
   py::array_t<std::uint8_t> array(shape);
   const std::size_t row_bytes = std::size_t(image.cols) * image.elemSize();
-  for (int y = 0; y < image.rows; ++y)
-    std::memcpy(array.mutable_data() + y * row_bytes, image.ptr(y), row_bytes);
+  for (int y = 0; y < image.rows; ++y) std::memcpy(array.mutable_data() + y * row_bytes, image.ptr(y), row_bytes);
   return array;
 }
 

@@ -5,10 +5,10 @@
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-#include <opencv2/core/mat.hpp>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/core/mat.hpp>
 
 #include "features/point_features.hpp"
 
@@ -31,8 +31,7 @@ cv::Mat grey(const cv::Mat& image);
 // A features argument: a (keypoints (N, 2), scores (N,), descriptors (N, D)) sequence as SuperPoint.detect
 // returns it (longer sequences: the rest is ignored), of any real dtype (converted to float32). `image_size`
 // (width, height) goes with it. ValueError naming `what` for shapes that disagree.
-features::PointFeatures features_argument(const py::handle& features, const char* what,
-                                          std::pair<int, int> image_size);
+features::PointFeatures features_argument(const py::handle& features, const char* what, std::pair<int, int> image_size);
 
 // (keypoints (N, 2) float32, scores (N,) float32, descriptors (N, D) float32).
 py::tuple features_to_python(const features::PointFeatures& features);

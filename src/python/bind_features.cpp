@@ -8,9 +8,9 @@
 #include <utility>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "features/nn_matcher.hpp"
 #include "features/superglue.hpp"
@@ -30,8 +30,7 @@ io::ModelPack load_pack(const std::optional<fs::path>& model, const std::string&
   std::optional<convert::LocatedModel> located;
   {
     const py::gil_scoped_release release;
-    located = convert::locate_model(stem, model.value_or(fs::path()),
-                                    convert::default_model_search(VKVO_SOURCE_DIR));
+    located = convert::locate_model(stem, model.value_or(fs::path()), convert::default_model_search(VKVO_SOURCE_DIR));
   }
   if (!located) raise(PyExc_FileNotFoundError, convert::superpoint_help());
   const py::gil_scoped_release release;
@@ -41,8 +40,8 @@ io::ModelPack load_pack(const std::optional<fs::path>& model, const std::string&
 std::pair<int, int> size_argument(const std::optional<std::pair<int, int>>& size, const char* what) {
   if (!size) raise(PyExc_ValueError, fmt::format("{}: (width, height) of the image is needed", what));
   if (size->first <= 0 || size->second <= 0)
-    raise(PyExc_ValueError, fmt::format("{}: expected a positive (width, height), got ({}, {})", what, size->first,
-                                        size->second));
+    raise(PyExc_ValueError,
+          fmt::format("{}: expected a positive (width, height), got ({}, {})", what, size->first, size->second));
   return *size;
 }
 
@@ -122,8 +121,8 @@ class SuperPointObject {
 
 class SuperGlueObject {
  public:
-  SuperGlueObject(const fs::path& model, const py::object& device, const std::string& precision,
-                  float match_threshold, int sinkhorn_iterations)
+  SuperGlueObject(const fs::path& model, const py::object& device, const std::string& precision, float match_threshold,
+                  int sinkhorn_iterations)
       : superglue_(device, load_pack(model, "superglue", io::NetworkKind::superglue),
                    features::SuperGlueParams{.match_threshold = match_threshold,
                                              .sinkhorn_iterations = sinkhorn_iterations,
@@ -137,9 +136,8 @@ class SuperGlueObject {
     const auto a = features_argument(features0, "SuperGlue.match features0", size0);
     const auto b = features_argument(features1, "SuperGlue.match features1", size1);
     Eigen::MatrixXf log_assignment;
-    const features::PointMatches matches = superglue_.run([&](features::SuperGlue& superglue) {
-      return superglue.match(a, b, dense ? &log_assignment : nullptr);
-    });
+    const features::PointMatches matches = superglue_.run(
+        [&](features::SuperGlue& superglue) { return superglue.match(a, b, dense ? &log_assignment : nullptr); });
     py::tuple outputs = matches_to_python(matches);
     if (!dense) return outputs;
     const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows = log_assignment;
@@ -163,8 +161,8 @@ class NnMatcherObject {
     const auto a = features_argument(features0, "NNMatcher.match features0", {0, 0});
     const auto b = features_argument(features1, "NNMatcher.match features1", {0, 0});
     if (a.size() > 0 && b.size() > 0 && a.descriptors.cols() != b.descriptors.cols())
-      raise(PyExc_ValueError, fmt::format("NNMatcher.match: descriptors of {} and {} dimensions",
-                                          a.descriptors.cols(), b.descriptors.cols()));
+      raise(PyExc_ValueError, fmt::format("NNMatcher.match: descriptors of {} and {} dimensions", a.descriptors.cols(),
+                                          b.descriptors.cols()));
     return matches_to_python(matcher_.run([&](features::NnMatcher& matcher) { return matcher.match(a, b); }));
   }
 
@@ -181,8 +179,8 @@ py::array_t<std::uint8_t> imread(const fs::path& path, bool color) {
     const py::gil_scoped_release release;
     image = cv::imread(path.string(), color ? cv::IMREAD_COLOR : cv::IMREAD_GRAYSCALE);
   }
-  if (image.empty()) raise(PyExc_ValueError, fmt::format("cannot decode image {} (corrupt or not an image)",
-                                                         path.string()));
+  if (image.empty())
+    raise(PyExc_ValueError, fmt::format("cannot decode image {} (corrupt or not an image)", path.string()));
   return image_to_python(image);
 }
 

@@ -77,8 +77,10 @@ io::DatasetOptions dataset_options(const system::VoConfig& config, std::optional
     options.range.stride = *stride;
   }
   if (last) {
-    if (*last >= 0) options.range.last = static_cast<std::size_t>(*last);
-    else options.range.last.reset();
+    if (*last >= 0)
+      options.range.last = static_cast<std::size_t>(*last);
+    else
+      options.range.last.reset();
   }
   return options;
 }
@@ -156,7 +158,8 @@ class DatasetObject {
 // camchain file.
 io::StereoCalibration calibration_argument(const py::object& calibration, const system::VoConfig& config) {
   if (calibration.is_none()) return system::config_calibration(config);
-  if (py::isinstance<DatasetObject>(calibration)) return calibration.cast<const DatasetObject&>().dataset().calibration();
+  if (py::isinstance<DatasetObject>(calibration))
+    return calibration.cast<const DatasetObject&>().dataset().calibration();
   const fs::path path = existing_path(calibration.cast<fs::path>(), "calibration");
   if (fs::is_directory(path)) return io::open_dataset(path, config.dataset)->calibration();
   return io::read_kalibr_camchain(path);
@@ -251,16 +254,21 @@ py::dict run(const fs::path& config_file, const fs::path& dataset_path, const fs
                                  {"superpoint_model", networks.models.superpoint_file.pack.string()}};
     result = system::run_vo(*dataset, config, *networks.features, *networks.keyframes, run_options);
   }
-  if (interrupt.interrupted()) raise(PyExc_KeyboardInterrupt, fmt::format("run stopped after {} frames; its "
-                                                                           "outputs are in {}", result.frames,
-                                                                           out.string()));
+  if (interrupt.interrupted())
+    raise(PyExc_KeyboardInterrupt, fmt::format("run stopped after {} frames; its "
+                                               "outputs are in {}",
+                                               result.frames, out.string()));
   return run_summary(result);
 }
 
 VoArguments vo_arguments(const std::optional<fs::path>& model, const std::optional<fs::path>& superglue,
                          const std::optional<std::string>& matcher, const std::optional<bool>& lines,
                          const std::optional<std::string>& precision, const py::object& device) {
-  return {.model = model, .superglue = superglue, .matcher = matcher, .precision = precision, .lines = lines,
+  return {.model = model,
+          .superglue = superglue,
+          .matcher = matcher,
+          .precision = precision,
+          .lines = lines,
           .device = device_argument(device)};
 }
 
@@ -282,8 +290,9 @@ uint8 (H, W) grey as the files hold them (unrectified); len(ds) frames; iterable
       .def_property_readonly("name", [](const DatasetObject& d) { return d.dataset().name(); })
       .def_property_readonly("kind", [](const DatasetObject& d) { return io::to_string(d.dataset().kind()); })
       .def_property_readonly("root", [](const DatasetObject& d) { return d.dataset().root(); })
-      .def_property_readonly("groundtruth", [](const DatasetObject& d) { return d.dataset().groundtruth_path(); },
-                             "The ground-truth file found next to the dataset (for vkvo.evaluate), or None.");
+      .def_property_readonly(
+          "groundtruth", [](const DatasetObject& d) { return d.dataset().groundtruth_path(); },
+          "The ground-truth file found next to the dataset (for vkvo.evaluate), or None.");
 
   py::class_<OdometryObject>(m, "Odometry", R"(The stereo VO for pairs handed in one at a time (a live camera).
 

@@ -50,8 +50,8 @@ py::list devices() {
 void set_log_level(const std::string& level) {
   const auto parsed = spdlog::level::from_str(level);
   if (parsed == spdlog::level::off && level != "off")
-    raise(PyExc_ValueError, fmt::format("log level '{}': expected trace, debug, info, warning, error, critical or off",
-                                        level));
+    raise(PyExc_ValueError,
+          fmt::format("log level '{}': expected trace, debug, info, warning, error, critical or off", level));
   spdlog::set_level(parsed);
 }
 

@@ -41,8 +41,8 @@ fs::path entry_path(const fs::path& folder, std::size_t hash) { return folder / 
 }  // namespace
 
 std::size_t image_content_hash(const cv::Mat& gray) {
-  std::size_t hash = std::hash<int>{}(gray.rows) ^ (std::hash<int>{}(gray.cols) << 1) ^
-                     (std::hash<int>{}(gray.type()) << 2);
+  std::size_t hash =
+      std::hash<int>{}(gray.rows) ^ (std::hash<int>{}(gray.cols) << 1) ^ (std::hash<int>{}(gray.type()) << 2);
   const std::size_t row_bytes = gray.cols * gray.elemSize();
   for (int y = 0; y < gray.rows; ++y)
     hash = hash * 1099511628211ull ^
@@ -117,7 +117,8 @@ void FeatureCache::write_entry(const Entry& entry, std::size_t hash) const {
     put(out, static_cast<std::int32_t>(f.descriptors.cols()));
     out.write(reinterpret_cast<const char*>(f.keypoints.data()),
               static_cast<std::streamsize>(f.keypoints.size() * sizeof(Eigen::Vector2f)));
-    out.write(reinterpret_cast<const char*>(f.scores.data()), static_cast<std::streamsize>(f.scores.size() * sizeof(float)));
+    out.write(reinterpret_cast<const char*>(f.scores.data()),
+              static_cast<std::streamsize>(f.scores.size() * sizeof(float)));
     out.write(reinterpret_cast<const char*>(f.descriptors.data()),
               static_cast<std::streamsize>(f.descriptors.size() * sizeof(float)));
     if (!out.flush()) {

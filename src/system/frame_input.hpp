@@ -13,11 +13,11 @@
 namespace vkvo::system {
 
 struct FrameInput {
-  std::size_t index = 0;            // position in the processed sequence (or the caller's stream)
+  std::size_t index = 0;  // position in the processed sequence (or the caller's stream)
   std::int64_t timestamp_ns = 0;
   double timestamp_s = 0;
-  cv::Mat left, right;              // rectified 8-bit images (right: used when the frame becomes a keyframe)
-  features::PointFeatures points;   // left image
+  cv::Mat left, right;                       // rectified 8-bit images (right: used when the frame becomes a keyframe)
+  features::PointFeatures points;            // left image
   std::vector<features::LineSegment> lines;  // left image (empty with lines disabled)
 
   // Matches of `points` to the reference they were matched against: the keyframe `reference_keyframe`, or the

@@ -21,9 +21,9 @@ struct KeyframeLineParams {
 };
 
 struct NewKeyframeLines {
-  int added = 0;        // map lines created
-  int two_view = 0;     // ... of which triangulated from the two keyframes (the stereo pair could not)
-  int seen_twice = 0;   // ... of which observed by the reference keyframe too
+  int added = 0;       // map lines created
+  int two_view = 0;    // ... of which triangulated from the two keyframes (the stereo pair could not)
+  int seen_twice = 0;  // ... of which observed by the reference keyframe too
 };
 
 // `stereo_lines` is per line of keyframe `kf`, in its camera frame; `reference_partner` per line of `kf` the

@@ -13,8 +13,8 @@
 #include <optional>
 #include <thread>
 
-#include <opencv2/core.hpp>
 #include <tbb/concurrent_queue.h>
+#include <opencv2/core.hpp>
 
 #include "system/stereo_odometry.hpp"
 

@@ -30,9 +30,9 @@ class Progress {
   void update(std::size_t done, int keyframes, const OdometryPose& r) {
     if (!enabled_) return;
     const double fps = double(done) / std::max(1e-9, watch_.ms() * 1e-3);
-    const auto text = fmt::format("[{:>5}/{}] {:5.1f} frames/s | keyframes {:>4} | tracked points {:>4} lines {:>3}{}",
-                                  done, total_, fps, keyframes, r.tracked_points, r.tracked_lines,
-                                  r.tracked ? "" : " | LOST");
+    const auto text =
+        fmt::format("[{:>5}/{}] {:5.1f} frames/s | keyframes {:>4} | tracked points {:>4} lines {:>3}{}", done, total_,
+                    fps, keyframes, r.tracked_points, r.tracked_lines, r.tracked ? "" : " | LOST");
     if (tty_) {
       std::fprintf(stderr, "\r%s", text.c_str());
       std::fflush(stderr);
@@ -85,10 +85,11 @@ nlohmann::json evaluate_outputs(const io::StereoDataset& dataset, const RunResul
       spdlog::warn("evaluation of the {} skipped: {}", key, e.what());
     }
   };
-  attempt("trajectory", [&] { return eval::to_json(eval::evaluate(io::read_tum(result.trajectory), groundtruth->poses, options)); });
+  attempt("trajectory",
+          [&] { return eval::to_json(eval::evaluate(io::read_tum(result.trajectory), groundtruth->poses, options)); });
   attempt("trajectory_by_state", [&] {
-    return eval::to_json(eval::evaluate_by_state(io::read_tum(result.trajectory),
-                                                 io::read_frame_status(result.frames_file), groundtruth->poses, options));
+    return eval::to_json(eval::evaluate_by_state(
+        io::read_tum(result.trajectory), io::read_frame_status(result.frames_file), groundtruth->poses, options));
   });
   attempt("keyframes_refined", [&] {
     return eval::to_json(eval::evaluate(io::read_tum(result.keyframes_refined_file), groundtruth->poses, options));
@@ -122,8 +123,8 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   // On the optimisation thread, for every frame the stages got through.
   auto on_pose = [&](const OdometryPose& r) {
     const PoseState state = r.state == FrameState::relocalised ? PoseState::relocalised
-                            : r.tracked                         ? PoseState::tracked
-                                                                : PoseState::lost;
+                            : r.tracked                        ? PoseState::tracked
+                                                               : PoseState::lost;
     const int bridged_before = record.frames_bridged();
     record.add({.index = r.frame_index,
                 .timestamp_ns = r.timestamp_ns,
@@ -151,9 +152,9 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
 
   {
     // The reader is this thread; the stream's threads run the feature and the optimisation stage.
-    OdometryStream stream(odometry, on_pose,
-                          {.queue_capacity = static_cast<std::size_t>(config.tracking.queue_capacity),
-                           .when_full = QueueFull::block});
+    OdometryStream stream(
+        odometry, on_pose,
+        {.queue_capacity = static_cast<std::size_t>(config.tracking.queue_capacity), .when_full = QueueFull::block});
     stream_counts = &stream;
     for (std::size_t next = 0; next < dataset.size() && !(options.stop && options.stop->load()); ++next) {
       const auto& frame = dataset.frame(next);
@@ -173,9 +174,9 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
     result.frames_skipped = unreadable + stream.failed();
   }
   result.frames_bridged = record.frames_bridged();
-  result.frames_uninitialised = static_cast<std::size_t>(
-      std::count_if(record.frames().begin(), record.frames().end(),
-                    [](const FrameRecord& f) { return f.state == PoseState::uninitialised; }));
+  result.frames_uninitialised =
+      static_cast<std::size_t>(std::count_if(record.frames().begin(), record.frames().end(),
+                                             [](const FrameRecord& f) { return f.state == PoseState::uninitialised; }));
   std::vector<Eigen::Vector3d> centres;
   for (const FrameRecord& f : record.frames())
     if (f.state != PoseState::uninitialised) centres.push_back(f.T_world_camera.translation());
@@ -220,7 +221,8 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   summary["lines_enabled"] = config.tracking.use_lines;
   summary["timing"] = result.timing.to_json(result.frames, result.wall_seconds);
   if (!result.evaluation.is_null()) summary["evaluation"] = result.evaluation;
-  summary["outputs"] = {{"trajectory", result.trajectory.string()}, {"frames", result.frames_file.string()},
+  summary["outputs"] = {{"trajectory", result.trajectory.string()},
+                        {"frames", result.frames_file.string()},
                         {"keyframes", result.keyframes_file.string()},
                         {"keyframes_refined", result.keyframes_refined_file.string()},
                         {"map", (options.output_dir / "map.ply").string()}};

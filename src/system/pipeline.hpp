@@ -22,16 +22,16 @@ namespace vkvo::system {
 struct RunOptions {
   // trajectory.txt, frames.csv, keyframes.txt, keyframes_refined.txt, map.ply, summary.json
   std::filesystem::path output_dir;
-  bool realtime = false;             // play the sequence back at its recorded rate
-  bool progress = true;              // progress bar on a terminal, log lines otherwise
+  bool realtime = false;                    // play the sequence back at its recorded rate
+  bool progress = true;                     // progress bar on a terminal, log lines otherwise
   const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT) to end the run cleanly after the current frame
-  nlohmann::json extra_summary;      // merged into summary.json (device, models, ...)
+  nlohmann::json extra_summary;             // merged into summary.json (device, models, ...)
 };
 
 struct RunResult {
-  std::size_t frames = 0;            // frames processed
-  std::size_t frames_skipped = 0;    // unreadable images
-  std::size_t frames_tracked = 0;    // frames whose pose came from the optimisation (the rest: predicted)
+  std::size_t frames = 0;          // frames processed
+  std::size_t frames_skipped = 0;  // unreadable images
+  std::size_t frames_tracked = 0;  // frames whose pose came from the optimisation (the rest: predicted)
   // Frames whose pose was predicted, as FrameInput::index: the position in the processed range, not in the dataset.
   std::vector<std::size_t> untracked_frames;
   // Untracked frames whose written pose was interpolated across the gap once tracking resumed (TrajectoryRecord).
@@ -40,17 +40,17 @@ struct RunResult {
   bool last_frame_tracked = false;
   int keyframes = 0;
   int tracking_losses = 0;
-  int segments = 0;           // map segments left at the end
-  int segments_started = 0;   // ... started during the run (the first included)
-  int relocalisations = 0;    // frames found in the map again after a loss, merges included
-  int merges = 0;             // young segments merged into older ones
+  int segments = 0;          // map segments left at the end
+  int segments_started = 0;  // ... started during the run (the first included)
+  int relocalisations = 0;   // frames found in the map again after a loss, merges included
+  int merges = 0;            // young segments merged into older ones
   std::size_t map_points = 0, map_lines = 0;
   double wall_seconds = 0;
   TimingReport timing;
   // TUM, cam0 poses (raw left camera), one line per processed frame from the first tracked one on; earlier lines
   // are rewritten when a gap closes or a segment merges (TrajectoryRecord).
   std::filesystem::path trajectory;
-  std::filesystem::path frames_file;  // frames.csv: per frame index, timestamp, state, segment, inliers
+  std::filesystem::path frames_file;             // frames.csv: per frame index, timestamp, state, segment, inliers
   std::filesystem::path keyframes_file;          // keyframe poses as tracking made them (moved by merges)
   std::filesystem::path keyframes_refined_file;  // keyframe poses after the last bundle adjustment (AirVO's output)
   std::filesystem::path summary;

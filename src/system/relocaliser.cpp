@@ -4,9 +4,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <spdlog/spdlog.h>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
-#include <spdlog/spdlog.h>
 
 #include "backend/pose_estimation.hpp"
 #include "features/lines/line_matching.hpp"
@@ -99,8 +99,8 @@ std::vector<RelocalisationCandidate> Relocaliser::candidates(const Relocalisatio
     const Eigen::Isometry3d delta = query.T_world_predicted.inverse() * kf.T_world_camera;
     const double distance = delta.translation().norm(), angle = rotation_angle(delta.linear());
     if (distance <= params_.max_distance && angle <= params_.max_angle)
-      by_position.push_back({id, -(distance / std::max(params_.max_distance, 1e-9) +
-                                   angle / std::max(params_.max_angle, 1e-9))});
+      by_position.push_back(
+          {id, -(distance / std::max(params_.max_distance, 1e-9) + angle / std::max(params_.max_angle, 1e-9))});
     by_recency.push_back({id, static_cast<double>(id)});
   }
   const auto rank = [](std::vector<Scored>& list) {
@@ -166,8 +166,11 @@ class CandidateEvidence {
 
   CandidateEvidence(const RelocalisationQuery& query, const map::KeyFrame& kf, const features::PointMatches& matches,
                     const map::Map& map, const geometry::PinholeCamera& camera, const backend::OptimizationParams& opt)
-      : kf_(&kf), camera_(camera), reprojection_px_(opt.pixel_sigma * std::sqrt(opt.mono_point_chi2)),
-        epipolar_px_(2.0 * opt.pixel_sigma), T_query_frame_world_(query.T_world_query.inverse()) {
+      : kf_(&kf),
+        camera_(camera),
+        reprojection_px_(opt.pixel_sigma * std::sqrt(opt.mono_point_chi2)),
+        epipolar_px_(2.0 * opt.pixel_sigma),
+        T_query_frame_world_(query.T_world_query.inverse()) {
     for (std::size_t i = 0; i < matches.matches0.size() && i < query.frame->keypoints.size(); ++i) {
       const int j = matches.matches0[i];
       if (j < 0 || static_cast<std::size_t>(j) >= kf.point_ids.size()) continue;
@@ -215,8 +218,8 @@ class CandidateEvidence {
       for (const auto& [kf_pixel, frame_pixel] : plain) {
         const Eigen::Vector3d x1 = kf_pixel.homogeneous(), x2 = frame_pixel.homogeneous();
         const Eigen::Vector3d Fx1 = F * x1, Ftx2 = F.transpose() * x2;
-        const double sampson = std::abs(x2.dot(Fx1)) /
-                               std::sqrt(Fx1.head<2>().squaredNorm() + Ftx2.head<2>().squaredNorm());
+        const double sampson =
+            std::abs(x2.dot(Fx1)) / std::sqrt(Fx1.head<2>().squaredNorm() + Ftx2.head<2>().squaredNorm());
         s.plain += sampson <= epipolar_px_;
       }
     }
@@ -228,7 +231,8 @@ class CandidateEvidence {
                                             const Eigen::Isometry3d& T_world_query) const {
     std::vector<Eigen::Isometry3d> out;
     if (forward.size() >= 6)
-      if (const auto pnp = backend::solve_pnp_ransac(camera_, forward, opt, iterations)) out.push_back(pnp->T_world_camera);
+      if (const auto pnp = backend::solve_pnp_ransac(camera_, forward, opt, iterations))
+        out.push_back(pnp->T_world_camera);
     if (reverse.size() >= 6)
       if (const auto pnp = backend::solve_pnp_ransac(camera_, reverse, opt, iterations))
         out.push_back(kf_->T_world_camera * pnp->T_world_camera.inverse() * T_world_query);
@@ -238,7 +242,7 @@ class CandidateEvidence {
 
   std::vector<backend::PointMatch> forward, reverse;
   std::vector<std::pair<int, map::Id>> forward_ids;  // per forward correspondence: frame keypoint, map point
-  std::vector<Eigen::Vector3d> reverse_in_frame;      // per reverse correspondence: the point in the frame's camera
+  std::vector<Eigen::Vector3d> reverse_in_frame;     // per reverse correspondence: the point in the frame's camera
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> plain;  // keyframe pixel, frame pixel
 
  private:
@@ -309,11 +313,11 @@ std::optional<Relocalisation> Relocaliser::try_candidate(const RelocalisationQue
   for (const Eigen::Isometry3d& T : evidence.hypotheses(optimization_, params_.pnp_iterations, query.T_world_query))
     if (const auto s = evidence.support(T); s.points() >= params_.min_point_inliers && score(s) > score(best_support))
       best = T, best_support = s;
-  spdlog::debug("relocalisation: keyframe {} ({}): {} matches ({} with its map points, {} with the frame's, {} "
-                "without 3D); inliers {} + {} + {}",
-                candidate.keyframe, candidate.sources, evidence.matches(), evidence.forward.size(),
-                evidence.reverse.size(), evidence.plain.size(), best_support.forward, best_support.reverse,
-                best_support.plain);
+  spdlog::debug(
+      "relocalisation: keyframe {} ({}): {} matches ({} with its map points, {} with the frame's, {} "
+      "without 3D); inliers {} + {} + {}",
+      candidate.keyframe, candidate.sources, evidence.matches(), evidence.forward.size(), evidence.reverse.size(),
+      evidence.plain.size(), best_support.forward, best_support.reverse, best_support.plain);
   const int support = score(best_support);
   if (!best || support < params_.min_inliers || support < params_.min_inlier_ratio * evidence.matches())
     return std::nullopt;
@@ -328,8 +332,7 @@ std::optional<Relocalisation> Relocaliser::try_candidate(const RelocalisationQue
   std::vector<backend::LineMatch> line_matches;
   std::vector<std::pair<int, map::Id>> line_of_match;
   if (use_lines_ && query.association && !query.frame->lines.empty() && !kf->lines.empty()) {
-    out.line_partner =
-        features::match_lines(*query.association, association_of(*kf), matches.matches0, line_matching_);
+    out.line_partner = features::match_lines(*query.association, association_of(*kf), matches.matches0, line_matching_);
     for (std::size_t l = 0; l < out.line_partner.size(); ++l) {
       if (out.line_partner[l] < 0) continue;
       const map::Id id = kf->line_ids[static_cast<std::size_t>(out.line_partner[l])];

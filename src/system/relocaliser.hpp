@@ -20,9 +20,9 @@
 #include <utility>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <yaml-cpp/yaml.h>
 
 #include "backend/params.hpp"
 #include "features/lines/line_params.hpp"
@@ -40,8 +40,8 @@ struct RelocalisationParams {
   int max_candidates = 3;        // keyframes matched per frame while tracking is lost
   int max_candidates_young = 2;  // ... per tracked frame of a segment that started after a loss
   // A keyframe this close to the predicted pose (both limits) is a candidate by position.
-  double max_distance = 3.0;     // m
-  double max_angle = 0.8;        // rad
+  double max_distance = 3.0;  // m
+  double max_angle = 0.8;     // rad
   // Verification of a pose: at least min_inliers of the frame's matches to the keyframe agree with it, and so do
   // min_inlier_ratio of all its matches. A frame with 3D points of its own (a young segment's) counts every kind of
   // match (a 3D point that reprojects, or a match without 3D on its epipolar line) but needs min_point_inliers with
@@ -88,7 +88,7 @@ struct Relocalisation {
 };
 
 struct RelocalisationStats {
-  int attempts = 0;            // frames it ran on
+  int attempts = 0;  // frames it ran on
   int candidates_matched = 0;
   int successes = 0;
   int successes_by_source[3] = {0, 0, 0};  // appearance, position, recency (a keyframe may count for several)
@@ -115,9 +115,9 @@ class Relocaliser {
   const RelocalisationStats& stats() const { return stats_; }
 
  private:
-  std::optional<Relocalisation> try_candidate(const RelocalisationQuery& query, const RelocalisationCandidate& candidate,
-                                              const map::Map& map, const geometry::StereoCamera& stereo,
-                                              PointFrontend& matcher) const;
+  std::optional<Relocalisation> try_candidate(const RelocalisationQuery& query,
+                                              const RelocalisationCandidate& candidate, const map::Map& map,
+                                              const geometry::StereoCamera& stereo, PointFrontend& matcher) const;
 
   struct Entry {
     std::shared_ptr<const features::PointFeatures> features;

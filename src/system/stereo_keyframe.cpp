@@ -45,8 +45,8 @@ namespace {
 
 // The two known 3D points of `line` whose keypoints lie nearest the segment's supporting line.
 std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> two_points_on_line(const features::LineSegment& line,
-                                                                               const std::vector<int>& line_points,
-                                                                               const LeftKeypoints& keypoints) {
+                                                                              const std::vector<int>& line_points,
+                                                                              const LeftKeypoints& keypoints) {
   std::vector<std::pair<float, int>> candidates;
   for (int k : line_points)
     if (keypoints.known_positions[static_cast<std::size_t>(k)])

@@ -18,9 +18,9 @@
 namespace vkvo::system {
 
 struct StereoPoints {
-  std::vector<double> right_x;                              // per left keypoint, -1 when not stereo-matched
-  std::vector<std::optional<Eigen::Vector3d>> positions;    // per left keypoint, left camera frame
-  int count = 0;                                            // triangulated keypoints
+  std::vector<double> right_x;                            // per left keypoint, -1 when not stereo-matched
+  std::vector<std::optional<Eigen::Vector3d>> positions;  // per left keypoint, left camera frame
+  int count = 0;                                          // triangulated keypoints
 };
 
 // Keeps the left<->right matches that pass the row and depth gates and triangulates them.
@@ -35,9 +35,9 @@ std::vector<std::optional<Eigen::Vector3d>> known_points_in_camera(
     const Eigen::Isometry3d& T_world_camera);
 
 struct StereoLines {
-  std::vector<std::optional<geometry::Segment2d>> right;                 // per left line
-  std::vector<std::optional<geometry::PlueckerLine>> lines;             // per left line, left camera frame
-  int planes = 0, points = 0;                                            // lines per triangulation method
+  std::vector<std::optional<geometry::Segment2d>> right;     // per left line
+  std::vector<std::optional<geometry::PlueckerLine>> lines;  // per left line, left camera frame
+  int planes = 0, points = 0;                                // lines per triangulation method
 };
 
 // One image's line segments and the keypoints associated to each (features::associate_points_to_lines).

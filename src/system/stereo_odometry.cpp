@@ -4,8 +4,8 @@
 #include <string>
 
 #include <fmt/format.h>
-#include <opencv2/imgproc.hpp>
 #include <tbb/parallel_invoke.h>
+#include <opencv2/imgproc.hpp>
 
 // Built with ThreadSanitizer: GCC defines __SANITIZE_THREAD__, clang answers __has_feature(thread_sanitizer).
 #if defined(__SANITIZE_THREAD__)
@@ -31,9 +31,10 @@ cv::Mat grey_image(const cv::Mat& image, const char* which, cv::Size expected) {
     cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
     return grey;
   }
-  throw std::invalid_argument(fmt::format("stereo odometry: the {} image has {} channel(s) of depth {} (OpenCV type "
-                                          "{}); 8-bit grey or BGR is needed",
-                                          which, image.channels(), image.depth(), image.type()));
+  throw std::invalid_argument(
+      fmt::format("stereo odometry: the {} image has {} channel(s) of depth {} (OpenCV type "
+                  "{}); 8-bit grey or BGR is needed",
+                  which, image.channels(), image.depth(), image.type()));
 }
 
 // The point task: left-image network, then matches against the last keyframe, or against the previous frame

@@ -34,7 +34,7 @@ struct OdometryPose {
   std::int64_t timestamp_ns = 0;
   // The raw (unrectified) left camera, cam0, in the world frame: cam0 at the first frame.
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
-  bool tracked = false;      // false: predicted at the last velocity (the frame could not be tracked)
+  bool tracked = false;                 // false: predicted at the last velocity (the frame could not be tracked)
   FrameState state = FrameState::lost;  // tracked, relocalised or lost (= !tracked)
   bool keyframe = false;
   bool new_segment = false;  // the map (re)started here, after a tracking loss or at the first frame
@@ -43,7 +43,7 @@ struct OdometryPose {
   // world by merge->T_into_from (a caller keeping poses updates them; run_vo rewrites its files).
   std::optional<SegmentMerge> merge;
   int tracked_points = 0, tracked_lines = 0;
-  std::string note;          // why no keyframe was made, or what relocalisation did
+  std::string note;  // why no keyframe was made, or what relocalisation did
 };
 
 class StereoOdometry {

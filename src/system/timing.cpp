@@ -38,16 +38,16 @@ ModuleStats TimingReport::stats(Module module) const {
     const auto rank = static_cast<std::size_t>(std::ceil(q * double(values.size())));
     return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
   };
-  s.median_ms = values.size() % 2 ? values[values.size() / 2]
-                                  : 0.5 * (values[values.size() / 2 - 1] + values[values.size() / 2]);
+  s.median_ms =
+      values.size() % 2 ? values[values.size() / 2] : 0.5 * (values[values.size() / 2 - 1] + values[values.size() / 2]);
   s.p95_ms = quantile(0.95);
   s.max_ms = values.back();
   return s;
 }
 
 std::string TimingReport::table(std::size_t frames, double wall_seconds) const {
-  std::string out = fmt::format("{:<6} {:>8} {:>10} {:>10} {:>10} {:>10}\n", "module", "samples", "mean ms", "median ms",
-                                "p95 ms", "max ms");
+  std::string out = fmt::format("{:<6} {:>8} {:>10} {:>10} {:>10} {:>10}\n", "module", "samples", "mean ms",
+                                "median ms", "p95 ms", "max ms");
   for (Module m : kModules) {
     const auto s = stats(m);
     out += fmt::format("{:<6} {:>8} {:>10.2f} {:>10.2f} {:>10.2f} {:>10.2f}\n", to_string(m), s.samples, s.mean_ms,
@@ -62,8 +62,11 @@ nlohmann::json TimingReport::to_json(std::size_t frames, double wall_seconds) co
   nlohmann::json modules = nlohmann::json::object();
   for (Module m : kModules) {
     const auto s = stats(m);
-    modules[to_string(m)] = {{"samples", s.samples}, {"mean_ms", s.mean_ms}, {"median_ms", s.median_ms},
-                             {"p95_ms", s.p95_ms}, {"max_ms", s.max_ms}};
+    modules[to_string(m)] = {{"samples", s.samples},
+                             {"mean_ms", s.mean_ms},
+                             {"median_ms", s.median_ms},
+                             {"p95_ms", s.p95_ms},
+                             {"max_ms", s.max_ms}};
   }
   return {{"modules", modules},
           {"frames", frames},

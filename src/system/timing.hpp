@@ -14,8 +14,8 @@
 namespace vkvo::system {
 
 enum class Module { PE, LE, PM, LM, IPE, BA, RL, Frame };
-inline constexpr std::array kModules = {Module::PE, Module::LE, Module::PM, Module::LM, Module::IPE, Module::BA,
-                                        Module::RL, Module::Frame};
+inline constexpr std::array kModules = {Module::PE,  Module::LE, Module::PM, Module::LM,
+                                        Module::IPE, Module::BA, Module::RL, Module::Frame};
 const char* to_string(Module module);
 
 struct ModuleStats {

@@ -20,8 +20,8 @@ bool usable(const map::MapLine* l) { return l && !l->bad; }
 
 std::string describe_sources(unsigned sources) {
   std::string text;
-  for (const auto& [bit, name] : {std::pair{kByAppearance, "appearance"}, std::pair{kByPosition, "position"},
-                                  std::pair{kByRecency, "recency"}})
+  for (const auto& [bit, name] :
+       {std::pair{kByAppearance, "appearance"}, std::pair{kByPosition, "position"}, std::pair{kByRecency, "recency"}})
     if (sources & bit) text += text.empty() ? name : std::string("+") + name;
   return text;
 }
@@ -48,11 +48,12 @@ Tracker::Tracker(const VoConfig& config, const geometry::StereoCamera& stereo, P
       T_world_last_(T_world_first) {
   if (config_.tracking.init_min_keypoints != config.tracking.init_min_keypoints ||
       config_.tracking.init_min_stereo != config.tracking.init_min_stereo)
-    spdlog::info("{}x{} images: a map segment starts with {} keypoints / {} stereo points (configured {} / {} for "
-                 "{:.0f} pixels)",
-                 stereo.camera.width, stereo.camera.height, config_.tracking.init_min_keypoints,
-                 config_.tracking.init_min_stereo, config.tracking.init_min_keypoints, config.tracking.init_min_stereo,
-                 config.tracking.reference_image_area);
+    spdlog::info(
+        "{}x{} images: a map segment starts with {} keypoints / {} stereo points (configured {} / {} for "
+        "{:.0f} pixels)",
+        stereo.camera.width, stereo.camera.height, config_.tracking.init_min_keypoints,
+        config_.tracking.init_min_stereo, config.tracking.init_min_keypoints, config.tracking.init_min_stereo,
+        config.tracking.reference_image_area);
 }
 
 MatchReference Tracker::reference() const {
@@ -77,7 +78,8 @@ Eigen::Isometry3d Tracker::predicted_pose(double steps) const {
   return T_world_last_ * motion;
 }
 
-Tracker::Tracked Tracker::make_frame(const FrameInput& input, const Eigen::Isometry3d& pose, TimingReport& timing) const {
+Tracker::Tracked Tracker::make_frame(const FrameInput& input, const Eigen::Isometry3d& pose,
+                                     TimingReport& timing) const {
   Tracked t;
   map::Frame& f = t.frame;
   f.frame_id = input.index;
@@ -146,8 +148,8 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
   const map::Frame* reference = nullptr;
   features::PointLineAssociation keyframe_association;
   const features::PointLineAssociation* reference_association = nullptr;
-  if (const map::KeyFrame* kf = out.reference_keyframe != map::kInvalidId ? map_.keyframe(out.reference_keyframe)
-                                                                          : nullptr) {
+  if (const map::KeyFrame* kf =
+          out.reference_keyframe != map::kInvalidId ? map_.keyframe(out.reference_keyframe) : nullptr) {
     reference = kf;
     current.reference_keyframe = kf->id;
     keyframe_association = association_of(*kf);
@@ -176,8 +178,8 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
     }
     if (config_.tracking.use_lines && !current.frame.lines.empty() && !reference->lines.empty()) {
       const Stopwatch watch;
-      const auto line_partner = features::match_lines(current.association, *reference_association, m,
-                                                      config_.lines.matching);
+      const auto line_partner =
+          features::match_lines(current.association, *reference_association, m, config_.lines.matching);
       if (current.reference_keyframe != map::kInvalidId) current.reference_line_partner = line_partner;
       for (std::size_t l = 0; l < line_partner.size(); ++l) {
         if (line_partner[l] < 0) continue;
@@ -193,8 +195,8 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
   out.map_point_matches = static_cast<int>(point_matches.size());
 
   const Stopwatch ipe_watch;
-  const auto estimate = backend::estimate_pose(stereo_, current.frame.T_world_camera, point_matches, line_matches,
-                                               config_.optimization);
+  const auto estimate =
+      backend::estimate_pose(stereo_, current.frame.T_world_camera, point_matches, line_matches, config_.optimization);
   timing.add(Module::IPE, ipe_watch.ms());
   out.success = estimate.success;
   out.used_pnp = estimate.used_pnp;
@@ -282,16 +284,16 @@ SegmentMerge Tracker::merge_into(const Relocalisation& found, Tracked& current, 
   for (std::size_t l = 0; l < current.frame.line_ids.size(); ++l)
     if (const map::MapLine* line = map_.line(current.frame.line_ids[l]); usable(line))
       lines.push_back({line->line, {current.frame.lines[l].left, std::nullopt}});
-  const auto joint =
-      backend::estimate_pose(stereo_, current.frame.T_world_camera, points, lines, config_.optimization);
+  const auto joint = backend::estimate_pose(stereo_, current.frame.T_world_camera, points, lines, config_.optimization);
   if (joint.success) current.frame.T_world_camera = joint.T_world_camera;
   current.reference_keyframe = found.keyframe;
   current.reference_line_partner = found.line_partner;
-  spdlog::info("frame {}: map segment {} merged into segment {} (keyframe {}, {} point / {} line inliers; moved "
-               "{:.3f} m, {:.2f} deg; fused {} points, {} lines)",
-               current.frame.frame_id, merge.from, merge.into, found.keyframe, found.points.size(), found.lines.size(),
-               merge.T_into_from.translation().norm(),
-               Eigen::AngleAxisd(merge.T_into_from.linear()).angle() * 180.0 / M_PI, fused_points, fused_lines);
+  spdlog::info(
+      "frame {}: map segment {} merged into segment {} (keyframe {}, {} point / {} line inliers; moved "
+      "{:.3f} m, {:.2f} deg; fused {} points, {} lines)",
+      current.frame.frame_id, merge.from, merge.into, found.keyframe, found.points.size(), found.lines.size(),
+      merge.T_into_from.translation().norm(), Eigen::AngleAxisd(merge.T_into_from.linear()).angle() * 180.0 / M_PI,
+      fused_points, fused_lines);
   timing.add(Module::RL, watch.ms());
   return merge;
 }
@@ -323,8 +325,8 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
   const bool after_gap = lost_frames_ > 0 || steps > 3.0;
   const int reference_inliers = reference.point_inliers + reference.line_inliers;
   const bool relocalising = config_.relocalisation.enabled;
-  bool tracked = reference.success &&
-                 (!after_gap || !relocalising || reference_inliers >= config_.relocalisation.min_inliers);
+  bool tracked =
+      reference.success && (!after_gap || !relocalising || reference_inliers >= config_.relocalisation.min_inliers);
   std::optional<Relocalisation> found;
   if (!tracked || after_gap) found = relocalise(input, current, -1, config_.relocalisation.max_candidates, timing);
   if (found && tracked && found->inliers <= reference_inliers) found.reset();
@@ -340,11 +342,11 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
     result.tracked_points = static_cast<int>(found->points.size());
     result.tracked_lines = static_cast<int>(found->lines.size());
     result.note = fmt::format("relocalised at keyframe {} ({})", found->keyframe, describe_sources(found->sources));
-    spdlog::info("frame {}: relocalised in segment {}{} at keyframe {} (by {}; {} of {} correspondences inliers, {} "
-                 "point / {} line inliers in the keyframe's map)",
-                 input.index, segment_, from != segment_ ? fmt::format(" (lost in segment {})", from) : "",
-                 found->keyframe, describe_sources(found->sources), found->inliers, found->matches,
-                 found->points.size(), found->lines.size());
+    spdlog::info(
+        "frame {}: relocalised in segment {}{} at keyframe {} (by {}; {} of {} correspondences inliers, {} "
+        "point / {} line inliers in the keyframe's map)",
+        input.index, segment_, from != segment_ ? fmt::format(" (lost in segment {})", from) : "", found->keyframe,
+        describe_sources(found->sources), found->inliers, found->matches, found->points.size(), found->lines.size());
   } else if (tracked) {
     current.frame.T_world_camera = reference.T_world_camera;
     for (const auto& [keypoint, point] : reference.points) current.frame.point_ids[keypoint] = point;
@@ -377,13 +379,12 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
       .frames_since_keyframe = frames_since_keyframe_ + 1};
   if (!tracked) {
     ++losses_;
-    spdlog::warn("frame {}: tracking lost ({} matches, {} map points, {} point / {} line inliers{}); no "
-                 "relocalisation; starting map segment {} at the predicted pose if the frame can carry one",
-                 input.index, result.matches, reference.map_point_matches, reference.point_inliers,
-                 reference.line_inliers,
-                 reference.success ? fmt::format(", below the {} asked after a loss", config_.relocalisation.min_inliers)
-                                   : "",
-                 segments_started_);
+    spdlog::warn(
+        "frame {}: tracking lost ({} matches, {} map points, {} point / {} line inliers{}); no "
+        "relocalisation; starting map segment {} at the predicted pose if the frame can carry one",
+        input.index, result.matches, reference.map_point_matches, reference.point_inliers, reference.line_inliers,
+        reference.success ? fmt::format(", below the {} asked after a loss", config_.relocalisation.min_inliers) : "",
+        segments_started_);
     current.frame.reset_associations();
     const int previous_segment = segment_;
     segment_ = segments_started_;
@@ -457,10 +458,11 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
       triangulate_stereo_points(stereo_, input.points, right, stereo_matches, config_.triangulation);
   if (new_segment && (static_cast<int>(input.points.size()) < config_.tracking.init_min_keypoints ||
                       stereo_points.count < config_.tracking.init_min_stereo)) {
-    spdlog::debug("frame {}: cannot start a map segment ({} keypoints, {} stereo matches, {} pass the stereo gates; "
-                  "need {} / {})",
-                  input.index, input.points.size(), stereo_matches.count(), stereo_points.count,
-                  config_.tracking.init_min_keypoints, config_.tracking.init_min_stereo);
+    spdlog::debug(
+        "frame {}: cannot start a map segment ({} keypoints, {} stereo matches, {} pass the stereo gates; "
+        "need {} / {})",
+        input.index, input.points.size(), stereo_matches.count(), stereo_points.count,
+        config_.tracking.init_min_keypoints, config_.tracking.init_min_stereo);
     timing.add(Module::BA, watch.lap());
     return false;
   }
@@ -482,10 +484,9 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     for (std::size_t i = 0; i < tracked_world.size(); ++i)
       if (const map::MapPoint* p = map_.point(frame.point_ids[i]); usable(p)) tracked_world[i] = p->position;
     const auto known_positions = known_points_in_camera(stereo_points, tracked_world, frame.T_world_camera);
-    stereo_lines = triangulate_stereo_lines(stereo_, {input.lines, tracked.association},
-                                            {right_lines, right_association},
-                                            {input.points.keypoints, gated, known_positions},
-                                            config_.lines.matching, config_.triangulation);
+    stereo_lines = triangulate_stereo_lines(
+        stereo_, {input.lines, tracked.association}, {right_lines, right_association},
+        {input.points.keypoints, gated, known_positions}, config_.lines.matching, config_.triangulation);
     for (std::size_t l = 0; l < frame.lines.size(); ++l) frame.lines[l].right = stereo_lines.right[l];
   }
 
@@ -509,11 +510,12 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
   if (!new_segment) {
     const auto ba = backend::local_bundle_adjustment(map_, kf_id, stereo_, config_.optimization);
     const auto [culled_points, culled_lines] = map_.cull(config_.map);
-    spdlog::debug("keyframe {} (frame {}): {} stereo matches, {} triangulated; +{} points, +{} lines ({} from two "
-                  "keyframes, {} seen by both); BA window {} ({} fixed), outliers {}/{}, culled {}/{}",
-                  kf_id, input.index, stereo_matches.count(), stereo_points.count, new_points, new_lines.added,
-                  new_lines.two_view, new_lines.seen_twice, ba.window.size(), ba.fixed.size(), ba.point_outliers,
-                  ba.line_outliers, culled_points, culled_lines);
+    spdlog::debug(
+        "keyframe {} (frame {}): {} stereo matches, {} triangulated; +{} points, +{} lines ({} from two "
+        "keyframes, {} seen by both); BA window {} ({} fixed), outliers {}/{}, culled {}/{}",
+        kf_id, input.index, stereo_matches.count(), stereo_points.count, new_points, new_lines.added,
+        new_lines.two_view, new_lines.seen_twice, ba.window.size(), ba.fixed.size(), ba.point_outliers,
+        ba.line_outliers, culled_points, culled_lines);
   }
   tracked.frame = *map_.keyframe(kf_id);  // BA may have moved it; associations now include the new landmarks
   auto features = std::make_shared<const features::PointFeatures>(input.points);

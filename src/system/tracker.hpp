@@ -45,15 +45,15 @@ struct SegmentMerge {
 struct TrackResult {
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // rectified left camera
   FrameState state = FrameState::lost;
-  bool tracked = false;        // state != lost
+  bool tracked = false;  // state != lost
   bool keyframe = false;
-  bool new_segment = false;    // (re-)initialisation: a new map segment starts here
-  int segment = 0;             // the map segment whose world frame the pose is in
+  bool new_segment = false;  // (re-)initialisation: a new map segment starts here
+  int segment = 0;           // the map segment whose world frame the pose is in
   std::optional<SegmentMerge> merge;
   int tracked_points = 0, tracked_lines = 0;
-  int matches = 0;             // point matches to the reference
-  bool rematched = false;      // the feature stage's reference was stale: matched again to the last keyframe
-  std::string note;            // why a tracked frame made no keyframe, or what relocalisation did (status file)
+  int matches = 0;         // point matches to the reference
+  bool rematched = false;  // the feature stage's reference was stale: matched again to the last keyframe
+  std::string note;        // why a tracked frame made no keyframe, or what relocalisation did (status file)
 };
 
 // The keyframe the feature stage matches new frames against.
@@ -138,7 +138,7 @@ class Tracker {
   int lost_frames_ = 0;  // consecutive untracked frames just before this one
   std::optional<double> last_timestamp_s_;
   double frame_interval_s_ = 0;  // the input's usual time between frames
-  int segment_ = 0;      // the segment the current pose is in
+  int segment_ = 0;              // the segment the current pose is in
   int segments_started_ = 0, losses_ = 0, relocalisations_ = 0, merges_ = 0;
 
   mutable std::mutex reference_mutex_;

@@ -31,7 +31,8 @@ bool is_tracked(PoseState state) { return state == PoseState::tracked || state =
 
 std::FILE* open_file(const fs::path& path, const char* mode) {
   std::FILE* file = std::fopen(path.c_str(), mode);
-  if (!file) throw std::runtime_error(fmt::format("cannot open {} for writing: {}", path.string(), std::strerror(errno)));
+  if (!file)
+    throw std::runtime_error(fmt::format("cannot open {} for writing: {}", path.string(), std::strerror(errno)));
   return file;
 }
 
@@ -79,8 +80,8 @@ Eigen::Isometry3d hermite_pose(const Eigen::Isometry3d& a, const Velocity& va, c
   const double s2 = s * s, s3 = s2 * s;
   const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() = h00 * a.translation() + h10 * duration * va.linear + h01 * b.translation() +
-                       h11 * duration * vb.linear;
+  pose.translation() =
+      h00 * a.translation() + h10 * duration * va.linear + h01 * b.translation() + h11 * duration * vb.linear;
   const Eigen::Vector3d phi_b = log_so3(b.linear() * a.linear().transpose());
   const Eigen::Vector3d phi = h10 * duration * va.angular + h01 * phi_b + h11 * duration * vb.angular;
   pose.linear() = exp_so3(phi) * a.linear();
@@ -121,8 +122,8 @@ std::string TrajectoryRecord::status_line(const FrameRecord& f) {
 }
 
 int TrajectoryRecord::frames_bridged() const {
-  return static_cast<int>(
-      std::count_if(frames_.begin(), frames_.end(), [](const FrameRecord& f) { return f.state == PoseState::bridged; }));
+  return static_cast<int>(std::count_if(frames_.begin(), frames_.end(),
+                                        [](const FrameRecord& f) { return f.state == PoseState::bridged; }));
 }
 
 void TrajectoryRecord::add(FrameRecord frame, const std::optional<SegmentMerge>& merge) {
@@ -135,7 +136,8 @@ void TrajectoryRecord::add(FrameRecord frame, const std::optional<SegmentMerge>&
       changed = true;
     }
   }
-  const bool started = std::any_of(frames_.begin(), frames_.end(), [](const FrameRecord& f) { return is_tracked(f.state); });
+  const bool started =
+      std::any_of(frames_.begin(), frames_.end(), [](const FrameRecord& f) { return is_tracked(f.state); });
   if (!started && !is_tracked(frame.state)) frame.state = PoseState::uninitialised;
   frames_.push_back(std::move(frame));
   changed = bridge_gaps() || changed;
@@ -202,8 +204,8 @@ bool TrajectoryRecord::bridge_gaps() {
     for (std::size_t k = a + 1; k < b; ++k) {
       FrameRecord& f = frames_[k];
       const double fraction = static_cast<double>(f.timestamp_ns - fa.timestamp_ns) * 1e-9 / duration;
-      const Eigen::Isometry3d pose = hermite_pose(fa.T_world_camera, va, fb.T_world_camera, vb, duration,
-                                                  std::clamp(fraction, 0.0, 1.0));
+      const Eigen::Isometry3d pose =
+          hermite_pose(fa.T_world_camera, va, fb.T_world_camera, vb, duration, std::clamp(fraction, 0.0, 1.0));
       if (f.state != PoseState::bridged || !pose.isApprox(f.T_world_camera, 1e-12)) changed = true;
       f.T_world_camera = pose;
       f.state = PoseState::bridged;
@@ -226,8 +228,8 @@ void TrajectoryRecord::rewrite() {
     keyframes += keyframe_line(f);
     status += status_line(f);
   }
-  for (auto [out, text] : {std::pair{&trajectory_, &trajectory}, std::pair{&keyframes_, &keyframes},
-                           std::pair{&status_, &status}}) {
+  for (auto [out, text] :
+       {std::pair{&trajectory_, &trajectory}, std::pair{&keyframes_, &keyframes}, std::pair{&status_, &status}}) {
     std::fclose(out->file);
     out->file = nullptr;
     replace_file(out->path, *text);

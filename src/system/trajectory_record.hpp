@@ -93,7 +93,7 @@ class TrajectoryRecord {
     std::FILE* file = nullptr;
   };
   static std::string trajectory_line(const FrameRecord& frame);  // empty for a frame without a pose
-  static std::string keyframe_line(const FrameRecord& frame);     // empty for a frame that is no keyframe
+  static std::string keyframe_line(const FrameRecord& frame);    // empty for a frame that is no keyframe
   static std::string status_line(const FrameRecord& frame);
 
   int max_bridged_;

@@ -50,7 +50,8 @@ VoConfig load_vo_config(const io::Config& config) {
   const YAML::Node models = config.section("models");
   io::read_param(models, "matcher", vo.matcher);
   if (vo.matcher != "superglue" && vo.matcher != "nn")
-    throw std::runtime_error(config.origin() + ": models.matcher must be 'superglue' or 'nn', not '" + vo.matcher + "'");
+    throw std::runtime_error(config.origin() + ": models.matcher must be 'superglue' or 'nn', not '" + vo.matcher +
+                             "'");
   std::string superpoint, superglue;
   io::read_param(models, "superpoint", superpoint);
   io::read_param(models, "superglue", superglue);
@@ -75,7 +76,9 @@ VoConfig scale_to_image(const VoConfig& config, int width, int height) {
   if (reference <= 0 || width <= 0 || height <= 0) return scaled;
   const double factor = std::min(1.0, double(width) * double(height) / reference);
   const int floor = 2 * config.keyframe.min_tracked;
-  auto scale = [&](int count) { return std::max(std::min(count, floor), static_cast<int>(std::lround(count * factor))); };
+  auto scale = [&](int count) {
+    return std::max(std::min(count, floor), static_cast<int>(std::lround(count * factor)));
+  };
   scaled.tracking.init_min_keypoints = scale(config.tracking.init_min_keypoints);
   scaled.tracking.init_min_stereo = scale(config.tracking.init_min_stereo);
   return scaled;

@@ -21,15 +21,15 @@ namespace vkvo::system {
 
 // YAML section `tracking`.
 struct TrackingParams {
-  int min_num_match = 30;       // fewer matches to the last keyframe: match against the last frame instead
-  int init_min_keypoints = 150; // a frame starts the map with at least this many keypoints ...
-  int init_min_stereo = 100;    // ... and this many triangulated stereo matches
+  int min_num_match = 30;        // fewer matches to the last keyframe: match against the last frame instead
+  int init_min_keypoints = 150;  // a frame starts the map with at least this many keypoints ...
+  int init_min_stereo = 100;     // ... and this many triangulated stereo matches
   // The two counts above are for images of this many pixels (EuRoC, 752 x 480);
   // smaller images scale them down by the area ratio (SuperPoint finds corners per area: 97 on a 320 x 240
   // rendered room), never up. 0 disables the scaling.
   double reference_image_area = 752.0 * 480.0;
-  bool use_lines = true;        // false: the paper's "w/o line" ablation
-  int queue_capacity = 2;       // frames in flight between the feature and the optimisation stage
+  bool use_lines = true;   // false: the paper's "w/o line" ablation
+  int queue_capacity = 2;  // frames in flight between the feature and the optimisation stage
   // Gaps of at most this many untracked frames get poses interpolated between the tracked frames around them,
   // matching the velocities at both ends (TrajectoryRecord); longer ones keep the constant-velocity predictions.
   // 0 interpolates none.
@@ -37,27 +37,25 @@ struct TrackingParams {
 };
 TrackingParams load_tracking_params(const YAML::Node& section);
 
-
-
 struct VoConfig {
   std::filesystem::path origin;  // the file it came from
   TrackingParams tracking;
-  features::LinePipelineParams lines;              // section lines: detector, association, matching
-  geometry::TriangulationParams triangulation;     // section stereo
-  backend::OptimizationParams optimization;        // section optimization
-  backend::KeyframeParams keyframe;                // section keyframe
-  map::MapParams map;                              // section map
-  RelocalisationParams relocalisation;             // section relocalisation
-  features::SuperPointParams point_detector;       // section point_detector
-  features::SuperGlueParams point_matcher;         // section point_matcher
-  features::NnMatcherParams nn_matcher;            // section nn_matcher: the mutual-nearest-neighbour fallback
+  features::LinePipelineParams lines;           // section lines: detector, association, matching
+  geometry::TriangulationParams triangulation;  // section stereo
+  backend::OptimizationParams optimization;     // section optimization
+  backend::KeyframeParams keyframe;             // section keyframe
+  map::MapParams map;                           // section map
+  RelocalisationParams relocalisation;          // section relocalisation
+  features::SuperPointParams point_detector;    // section point_detector
+  features::SuperGlueParams point_matcher;      // section point_matcher
+  features::NnMatcherParams nn_matcher;         // section nn_matcher: the mutual-nearest-neighbour fallback
   // Sections dataset (frame range, stereo pairing) and camera (calibration overrides, kept as YAML: they apply
   // on top of the dataset's own calibration when it is opened; a Kalibr file named there is already resolved
   // against the config's folder).
   io::DatasetOptions dataset;
-  std::string matcher = "superglue";               // superglue | nn   (section models: matcher)
-  std::filesystem::path superpoint_model;          // section models: superpoint (pack path; may be empty)
-  std::filesystem::path superglue_model;           // section models: superglue
+  std::string matcher = "superglue";       // superglue | nn   (section models: matcher)
+  std::filesystem::path superpoint_model;  // section models: superpoint (pack path; may be empty)
+  std::filesystem::path superglue_model;   // section models: superglue
 };
 
 // Parses every section (those the feature stage and the dataset reader read later too) and throws

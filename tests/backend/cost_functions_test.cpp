@@ -104,8 +104,8 @@ TEST(CostFunctions, LineManifoldInvariantsAndJacobian) {
   std::mt19937 rng(23);
   std::normal_distribution<double> n(0.0, 1.0);
   for (int trial = 0; trial < 20; ++trial) {
-    const geometry::PlueckerLine L = geometry::PlueckerLine::from_points(
-        Eigen::Vector3d(n(rng), n(rng), 4 + n(rng)), Eigen::Vector3d(n(rng), n(rng), 5 + n(rng)));
+    const geometry::PlueckerLine L = geometry::PlueckerLine::from_points(Eigen::Vector3d(n(rng), n(rng), 4 + n(rng)),
+                                                                         Eigen::Vector3d(n(rng), n(rng), 5 + n(rng)));
     const Eigen::Matrix<double, 6, 1> x = L.vector();
     const Eigen::Vector4d delta = 0.1 * Eigen::Vector4d(n(rng), n(rng), n(rng), n(rng));
     Eigen::Matrix<double, 6, 1> y, zero_step;
@@ -113,8 +113,7 @@ TEST(CostFunctions, LineManifoldInvariantsAndJacobian) {
     EXPECT_LT((zero_step - x).norm(), 1e-12);  // Plus(x, 0) = x
     ASSERT_TRUE(manifold->Plus(x.data(), delta.data(), y.data()));
     // Plus agrees with the reference orthonormal update of geometry/.
-    const geometry::PlueckerLine ref =
-        geometry::OrthonormalLine::from_pluecker(L).plus(delta).to_pluecker();
+    const geometry::PlueckerLine ref = geometry::OrthonormalLine::from_pluecker(L).plus(delta).to_pluecker();
     EXPECT_LT((y.head<3>() - ref.n).norm(), 1e-12);
     EXPECT_LT((y.tail<3>() - ref.v).norm(), 1e-12);
     EXPECT_NEAR(y.head<3>().dot(y.tail<3>()), 0.0, 1e-12);  // still a valid Pluecker vector

@@ -11,8 +11,8 @@ namespace vkvo::backend {
 namespace {
 
 // Perturbs the poses of the keyframes in `which`, and every landmark, in place.
-void perturb_map(test::SceneMap& sm, const std::vector<map::Id>& which, std::mt19937& rng, double pose_t,
-                 double pose_r, double point_sigma, double line_delta) {
+void perturb_map(test::SceneMap& sm, const std::vector<map::Id>& which, std::mt19937& rng, double pose_t, double pose_r,
+                 double point_sigma, double line_delta) {
   std::normal_distribution<double> n(0.0, 1.0);
   for (map::Id id : which) {
     auto* kf = sm.map.keyframe(id);
@@ -41,10 +41,10 @@ bool seen_by(const Landmark& l, const std::vector<map::Id>& keyframes) {
 Errors errors(const test::SceneMap& sm, const test::Scene& s, const std::vector<map::Id>& keyframes) {
   Errors e;
   for (map::Id id : keyframes) {
-    e.max_pose_t = std::max(e.max_pose_t, test::translation_error(sm.map.keyframe(id)->T_world_camera,
-                                                                  s.T_world_camera[id]));
-    e.max_pose_r = std::max(e.max_pose_r, test::rotation_error(sm.map.keyframe(id)->T_world_camera,
-                                                               s.T_world_camera[id]));
+    e.max_pose_t =
+        std::max(e.max_pose_t, test::translation_error(sm.map.keyframe(id)->T_world_camera, s.T_world_camera[id]));
+    e.max_pose_r =
+        std::max(e.max_pose_r, test::rotation_error(sm.map.keyframe(id)->T_world_camera, s.T_world_camera[id]));
   }
   int n = 0;
   for (size_t i = 0; i < sm.point_ids.size(); ++i)
@@ -57,7 +57,8 @@ Errors errors(const test::SceneMap& sm, const test::Scene& s, const std::vector<
     if (const auto* l = sm.map.line(sm.line_ids[j]); l && seen_by(*l, keyframes)) {
       const auto truth = geometry::PlueckerLine::from_points(s.segments[j].first, s.segments[j].second);
       // Direction angle and the distance of a true point from the estimated line.
-      e.max_line_angle = std::max(e.max_line_angle, std::acos(std::min(1.0, std::abs(l->line.direction().dot(truth.v)))));
+      e.max_line_angle =
+          std::max(e.max_line_angle, std::acos(std::min(1.0, std::abs(l->line.direction().dot(truth.v)))));
       e.max_line_angle = std::max(e.max_line_angle, l->line.distance_to(s.segments[j].first) / 5.0);
     }
   return e;

@@ -119,8 +119,8 @@ TEST(PoseEstimation, NoiselessIsExactAndTooFewMatchesFail) {
   EXPECT_TRUE(pose_near(est.T_world_camera, s.T_world_camera[1], 1e-7, 1e-8));
   EXPECT_EQ(est.num_point_inliers, static_cast<int>(m.points.size()));
   // A prior that already explains the matches (~1 px off) needs no PnP start.
-  const PoseEstimate near = estimate_pose(s.stereo, test::perturb(s.T_world_camera[1], rng, 0.005, 0.002), m.points,
-                                          m.lines, params);
+  const PoseEstimate near =
+      estimate_pose(s.stereo, test::perturb(s.T_world_camera[1], rng, 0.005, 0.002), m.points, m.lines, params);
   EXPECT_FALSE(near.used_pnp);
   EXPECT_LT(test::translation_error(near.T_world_camera, s.T_world_camera[1]), 1e-7);
   const std::vector<PointMatch> few(m.points.begin(), m.points.begin() + 5);

@@ -18,20 +18,28 @@ struct SceneSpec {
   int num_keyframes = 6;
   int num_points = 300;
   int num_lines = 60;
-  double step = 0.25;          // m between keyframes
-  double pixel_noise = 0.0;    // sigma of the Gaussian noise on every pixel coordinate
+  double step = 0.25;            // m between keyframes
+  double pixel_noise = 0.0;      // sigma of the Gaussian noise on every pixel coordinate
   double stereo_fraction = 0.7;  // share of observations that also have a right-image measurement
   unsigned seed = 1;
 };
 
 struct Scene {
   geometry::StereoCamera stereo;
-  std::vector<Eigen::Isometry3d> T_world_camera;  // true keyframe poses
-  std::vector<Eigen::Vector3d> points;            // true points
+  std::vector<Eigen::Isometry3d> T_world_camera;                      // true keyframe poses
+  std::vector<Eigen::Vector3d> points;                                // true points
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;  // true 3D segments
   // Observations per keyframe (pixels with noise): point index, pixel, right x (or -1) / line index, segments.
-  struct PointObs { int point; Eigen::Vector2d pixel; double right_x; };
-  struct LineObs { int line; geometry::Segment2d left; std::optional<geometry::Segment2d> right; };
+  struct PointObs {
+    int point;
+    Eigen::Vector2d pixel;
+    double right_x;
+  };
+  struct LineObs {
+    int line;
+    geometry::Segment2d left;
+    std::optional<geometry::Segment2d> right;
+  };
   std::vector<std::vector<PointObs>> point_obs;
   std::vector<std::vector<LineObs>> line_obs;
 };
@@ -43,7 +51,8 @@ inline Eigen::Isometry3d scene_pose(int k, double step) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(step * k, 0.05 * std::sin(0.7 * k), 0.03 * k);
   T.linear() = (Eigen::AngleAxisd(0.04 * k, Eigen::Vector3d::UnitY()) *
-                Eigen::AngleAxisd(0.02 * std::cos(k), Eigen::Vector3d::UnitX())).toRotationMatrix();
+                Eigen::AngleAxisd(0.02 * std::cos(k), Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
   return T;
 }
 
@@ -53,8 +62,8 @@ inline Scene make_scene(const SceneSpec& spec) {
   std::mt19937 rng(spec.seed);
   std::normal_distribution<double> noise(0.0, spec.pixel_noise > 0 ? spec.pixel_noise : 1.0);
   auto jitter = [&]() { return spec.pixel_noise > 0 ? noise(rng) : 0.0; };
-  std::uniform_real_distribution<double> ux(-3.0, 3.0 + spec.step * spec.num_keyframes), uy(-1.5, 1.5),
-      uz(2.5, 8.0), u01(0.0, 1.0);
+  std::uniform_real_distribution<double> ux(-3.0, 3.0 + spec.step * spec.num_keyframes), uy(-1.5, 1.5), uz(2.5, 8.0),
+      u01(0.0, 1.0);
   for (int k = 0; k < spec.num_keyframes; ++k) s.T_world_camera.push_back(scene_pose(k, spec.step));
   for (int i = 0; i < spec.num_points; ++i) s.points.emplace_back(ux(rng), uy(rng), uz(rng));
   while (static_cast<int>(s.segments.size()) < spec.num_lines) {
@@ -116,7 +125,8 @@ inline SceneMap make_scene_map(const Scene& s) {
     if (point_views[i] >= 2) out.point_ids[i] = out.map.add_point(s.points[i]);
   for (size_t j = 0; j < s.segments.size(); ++j)
     if (line_views[j] >= 2)
-      out.line_ids[j] = out.map.add_line(geometry::PlueckerLine::from_points(s.segments[j].first, s.segments[j].second));
+      out.line_ids[j] =
+          out.map.add_line(geometry::PlueckerLine::from_points(s.segments[j].first, s.segments[j].second));
   for (size_t k = 0; k < s.point_obs.size(); ++k) {
     map::Frame f;
     f.frame_id = k;

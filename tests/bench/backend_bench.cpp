@@ -42,8 +42,8 @@ void BM_InitialPoseEstimation(benchmark::State& state) {
     points.push_back(m);
   }
   for (const auto& o : s.line_obs[k])
-    lines.push_back({geometry::PlueckerLine::from_points(s.segments[o.line].first, s.segments[o.line].second),
-                     {o.left, o.right}});
+    lines.push_back(
+        {geometry::PlueckerLine::from_points(s.segments[o.line].first, s.segments[o.line].second), {o.left, o.right}});
   const Eigen::Isometry3d prior = test::perturb(s.T_world_camera[k], rng, 0.02, 0.01);
   backend::OptimizationParams params;
   params.num_threads = 1;

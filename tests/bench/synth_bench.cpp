@@ -27,8 +27,8 @@ void BM_RenderStereoPair(benchmark::State& state) {
     benchmark::DoNotOptimize(f.left.data);
     frame = (frame + 7) % renderer.frame_count();
   }
-  state.counters["pixels/s"] = benchmark::Counter(
-      2.0 * renderer.config().rig.width * renderer.config().rig.height, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["pixels/s"] = benchmark::Counter(2.0 * renderer.config().rig.width * renderer.config().rig.height,
+                                                  benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_RenderStereoPair)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 

@@ -55,9 +55,11 @@ std::string error_of(Fn&& fn) {
 
 // Skips the current test with a clear message when the shared data (or a file in it) is not there.
 // Usage: VKVO_REQUIRE_DATA(dir, "golden/superpoint");  ->  dir is the full path afterwards.
-#define VKVO_REQUIRE_DATA(var, relative)                                                                  \
-  const auto var##_root = ::vkvo::test::shared_data_dir();                                                \
-  if (!var##_root) GTEST_SKIP() << "shared data not found: set VKVO_DATA or put ../shared next to the "   \
-                                   "checkout (needed: " << (relative) << ")";                            \
-  const std::filesystem::path var = *var##_root / (relative);                                             \
+#define VKVO_REQUIRE_DATA(var, relative)                                                 \
+  const auto var##_root = ::vkvo::test::shared_data_dir();                               \
+  if (!var##_root)                                                                       \
+    GTEST_SKIP() << "shared data not found: set VKVO_DATA or put ../shared next to the " \
+                    "checkout (needed: "                                                 \
+                 << (relative) << ")";                                                   \
+  const std::filesystem::path var = *var##_root / (relative);                            \
   if (!std::filesystem::exists(var)) GTEST_SKIP() << "shared data lacks " << var.string()

@@ -117,7 +117,8 @@ inline void remove_dead_nodes(onnx::ModelProto& model) {
   std::vector<bool> keep(static_cast<std::size_t>(graph->node_size()), false);
   for (int i = graph->node_size() - 1; i >= 0; --i) {
     const auto& node = graph->node(i);
-    for (const auto& out : node.output()) keep[static_cast<std::size_t>(i)] = keep[static_cast<std::size_t>(i)] || live.contains(out);
+    for (const auto& out : node.output())
+      keep[static_cast<std::size_t>(i)] = keep[static_cast<std::size_t>(i)] || live.contains(out);
     if (keep[static_cast<std::size_t>(i)])
       for (const auto& in : node.input()) live.insert(in);
   }

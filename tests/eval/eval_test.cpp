@@ -19,7 +19,8 @@ namespace {
 
 Isometry3d make_pose(const Vector3d& axis_angle, const Vector3d& translation) {
   Isometry3d pose = Isometry3d::Identity();
-  if (axis_angle.norm() > 0) pose.linear() = Eigen::AngleAxisd(axis_angle.norm(), axis_angle.normalized()).toRotationMatrix();
+  if (axis_angle.norm() > 0)
+    pose.linear() = Eigen::AngleAxisd(axis_angle.norm(), axis_angle.normalized()).toRotationMatrix();
   pose.translation() = translation;
   return pose;
 }
@@ -55,17 +56,17 @@ TEST(Stats, HandComputed) {
   EXPECT_DOUBLE_EQ(eval::compute_stats({5, 1, 3}).median, 3);
   EXPECT_NEAR(eval::rotation_angle_deg(Eigen::AngleAxisd(1e-7, Vector3d::UnitY()).toRotationMatrix()),
               1e-7 * 180 / M_PI, 1e-15);
-  EXPECT_NEAR(eval::rotation_angle_deg(Eigen::AngleAxisd(3.0, Vector3d::UnitX()).toRotationMatrix()),
-              3.0 * 180 / M_PI, 1e-9);
+  EXPECT_NEAR(eval::rotation_angle_deg(Eigen::AngleAxisd(3.0, Vector3d::UnitX()).toRotationMatrix()), 3.0 * 180 / M_PI,
+              1e-9);
 }
 
 TEST(Association, NearestWithinToleranceOneToOne) {
   io::Trajectory gt, est;
   for (int k = 0; k < 100; ++k) gt.push_back({0.01 * k, make_pose(Vector3d::Zero(), Vector3d(k, 0, 0))});
-  est.push_back({0.203, Isometry3d::Identity()});  // nearest gt: 0.20 (k = 20)
-  est.push_back({0.206, Isometry3d::Identity()});  // nearest gt: 0.21 (k = 21)
-  est.push_back({0.2095, Isometry3d::Identity()}); // also 0.21 but further: 0.206 is 0.004 away, this 0.0005 -> wins
-  est.push_back({5.0, Isometry3d::Identity()});    // beyond the gt: |dt| = 4.01 > tolerance
+  est.push_back({0.203, Isometry3d::Identity()});   // nearest gt: 0.20 (k = 20)
+  est.push_back({0.206, Isometry3d::Identity()});   // nearest gt: 0.21 (k = 21)
+  est.push_back({0.2095, Isometry3d::Identity()});  // also 0.21 but further: 0.206 is 0.004 away, this 0.0005 -> wins
+  est.push_back({5.0, Isometry3d::Identity()});     // beyond the gt: |dt| = 4.01 > tolerance
   const auto pairs = eval::associate(est, gt, 0.02);
   ASSERT_EQ(pairs.size(), 2u);
   EXPECT_DOUBLE_EQ(pairs.t[0], 0.203);
@@ -275,8 +276,8 @@ TEST(Report, JsonAndTableCarryTheNumbers) {
 }
 
 TEST(Report, OptionsFromConfigSection) {
-  const auto options = eval::load_eval_options(
-      YAML::Load("align: sim3\nmax_dt_s: 0.005\nrpe_lengths_m: [1.5, 3]\nrpe_step: 10\n"));
+  const auto options =
+      eval::load_eval_options(YAML::Load("align: sim3\nmax_dt_s: 0.005\nrpe_lengths_m: [1.5, 3]\nrpe_step: 10\n"));
   EXPECT_EQ(options.alignment, eval::AlignmentMode::sim3);
   EXPECT_DOUBLE_EQ(options.max_dt_s, 0.005);
   EXPECT_EQ(options.rpe.lengths_m, (std::vector<double>{1.5, 3.0}));

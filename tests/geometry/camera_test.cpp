@@ -48,8 +48,14 @@ RawRig make_raw_rig(io::DistortionModel model) {
   auto& R = r.calib.right;
   L.width = R.width = 640;
   L.height = R.height = 480;
-  L.fx = 460; L.fy = 455; L.cx = 322; L.cy = 243;
-  R.fx = 458; R.fy = 457; R.cx = 318; R.cy = 238;
+  L.fx = 460;
+  L.fy = 455;
+  L.cx = 322;
+  L.cy = 243;
+  R.fx = 458;
+  R.fy = 457;
+  R.cx = 318;
+  R.cy = 238;
   L.distortion = R.distortion = model;
   if (model == io::DistortionModel::radtan) {
     L.distortion_coeffs = {-0.28, 0.07, 2e-4, 1.8e-5};
@@ -96,7 +102,9 @@ Eigen::Vector2d centroid(const cv::Mat& image, const Eigen::Vector2d& guess) {
   for (int y = int(std::round(guess.y())) - 7; y <= int(std::round(guess.y())) + 7; ++y)
     for (int x = int(std::round(guess.x())) - 7; x <= int(std::round(guess.x())) + 7; ++x) {
       const double w = image.at<float>(y, x);
-      sw += w; sx += w * x; sy += w * y;
+      sw += w;
+      sx += w * x;
+      sy += w * y;
     }
   return {sx / sw, sy / sw};
 }
@@ -110,22 +118,22 @@ void check_rectification(io::DistortionModel model) {
   EXPECT_NEAR(rig.baseline(), t_lr.norm(), 1e-9);
   const PinholeCamera& cam = rig.camera();
   // Body pose of the rectified frame agrees with the raw-left pose composed with the rectifying rotation.
-  EXPECT_LT((rig.T_body_rectified().matrix() -
-             (raw.calib.left.T_body_camera * rig.T_rawleft_rectified()).matrix()).norm(), 1e-12);
+  EXPECT_LT(
+      (rig.T_body_rectified().matrix() - (raw.calib.left.T_body_camera * rig.T_rawleft_rectified()).matrix()).norm(),
+      1e-12);
 
   std::mt19937 rng(7);
   std::vector<Eigen::Vector3d> points_rect;
   std::vector<Eigen::Vector2d> spots_left, spots_right;
-  const Eigen::Isometry3d T_rightraw_rect =
-      raw.calib.right.T_body_camera.inverse() * rig.T_body_rectified();
+  const Eigen::Isometry3d T_rightraw_rect = raw.calib.right.T_body_camera.inverse() * rig.T_body_rectified();
   while (points_rect.size() < 12) {
     const Eigen::Vector3d p = test::random_visible_point(rng, cam, Eigen::Isometry3d::Identity(), 1.5, 6.0);
     const Eigen::Vector2d l = cam.project(p), r = rig.stereo().project_right(p);
     if (!cam.in_image(l, 40) || !cam.in_image(r, 40)) continue;
     bool far_enough = true;  // spots must not overlap in either image
     for (size_t i = 0; i < points_rect.size(); ++i)
-      far_enough &= (cam.project(points_rect[i]) - l).norm() > 30 &&
-                    (rig.stereo().project_right(points_rect[i]) - r).norm() > 30;
+      far_enough &=
+          (cam.project(points_rect[i]) - l).norm() > 30 && (rig.stereo().project_right(points_rect[i]) - r).norm() > 30;
     if (!far_enough) continue;
     points_rect.push_back(p);
     spots_left.push_back(project_raw(raw.calib.left, rig.T_rawleft_rectified() * p));
@@ -154,8 +162,11 @@ TEST(StereoRig, AlreadyRectifiedInputPassesThrough) {
   io::StereoCalibration calib;
   calib.rectified = true;
   for (auto* c : {&calib.left, &calib.right}) {
-    c->width = 1241; c->height = 376;
-    c->fx = c->fy = 718.856; c->cx = 607.1928; c->cy = 185.2157;
+    c->width = 1241;
+    c->height = 376;
+    c->fx = c->fy = 718.856;
+    c->cx = 607.1928;
+    c->cy = 185.2157;
   }
   calib.right.T_body_camera.translation() = Eigen::Vector3d(0.537165, 0, 0);
   const StereoRig rig(calib);

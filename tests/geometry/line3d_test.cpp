@@ -89,7 +89,8 @@ TEST(Line3d, ProjectionMatrixMatchesProjectedEndpoints) {
   for (int i = 0; i < 100; ++i) {
     const auto [X1, X2] = random_segment(rng, cam);
     const Eigen::Isometry3d T_camera_world = test::random_pose(rng, 0.3, 0.2);
-    const PlueckerLine L_world = PlueckerLine::from_points(T_camera_world.inverse() * X1, T_camera_world.inverse() * X2);
+    const PlueckerLine L_world =
+        PlueckerLine::from_points(T_camera_world.inverse() * X1, T_camera_world.inverse() * X2);
     const Eigen::Vector3d l = project_line(cam, transform_line(T_camera_world, L_world));
     const Eigen::Vector2d p1 = cam.project(X1), p2 = cam.project(X2);
     const Eigen::Vector3d brute = image_line({p1.x(), p1.y(), p2.x(), p2.y()});
@@ -149,8 +150,8 @@ TEST(Line3d, ReprojectionErrorIsTheLargerEndpointDistance) {
   }
   // A line through the camera centre projects to a point: no distance is defined.
   const PlueckerLine through_centre = PlueckerLine::from_points({0, 0, 1}, {0, 0, 3});
-  EXPECT_TRUE(std::isinf(line_reprojection_error(through_centre, cam, {Eigen::Isometry3d::Identity(),
-                                                                      Segment2d(300, 200, 400, 250)})));
+  EXPECT_TRUE(std::isinf(
+      line_reprojection_error(through_centre, cam, {Eigen::Isometry3d::Identity(), Segment2d(300, 200, 400, 250)})));
 }
 
 }  // namespace

@@ -3,9 +3,9 @@
 // comparison of two 3D lines.
 #include <random>
 
+#include <gtest/gtest.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
 
 #include "geometry/camera.hpp"
 #include "geometry/line3d.hpp"

@@ -24,7 +24,7 @@ TEST(Triangulation, StereoPointExactAndGated) {
   const Eigen::Vector2d l = stereo.camera.project(p), r = stereo.project_right(p);
   EXPECT_FALSE(triangulate_stereo_point(stereo, l, r + Eigen::Vector2d(0, 2.5), params));  // |dy| > 2 px
   EXPECT_TRUE(triangulate_stereo_point(stereo, l, r + Eigen::Vector2d(0, 1.9), params));
-  EXPECT_FALSE(triangulate_stereo_point(stereo, l, l, params));                             // zero disparity
+  EXPECT_FALSE(triangulate_stereo_point(stereo, l, l, params));  // zero disparity
   const Eigen::Vector3d far(0.1, 0.1, 12.0), near(0.0, 0.0, 0.08);
   EXPECT_FALSE(triangulate_stereo_point(stereo, stereo.camera.project(far), stereo.project_right(far), params));
   EXPECT_FALSE(triangulate_stereo_point(stereo, stereo.camera.project(near), stereo.project_right(near), params));
@@ -48,7 +48,8 @@ TEST(Triangulation, TwoViewPointExact) {
   // Pure rotation: rays meet only at the camera centre or at infinity; a point behind is rejected.
   const Eigen::Vector3d X(0.2, 0.1, 3.0);
   EXPECT_FALSE(triangulate_two_view(cam, Eigen::Isometry3d::Identity(), cam.project(X), Eigen::Isometry3d::Identity(),
-                                    cam.project(X)).has_value());
+                                    cam.project(X))
+                   .has_value());
 }
 
 LineObservation observe(const PinholeCamera& cam, const Eigen::Isometry3d& T_world_camera, const Eigen::Vector3d& A,

@@ -63,23 +63,24 @@ TEST(CameraOverrides, SharedAndPerCameraKeys) {
 }
 
 TEST(CameraOverrides, TransformAndErrors) {
-  const YAML::Node camera = YAML::Load(
-      "left:\n  T_body_camera: [0, -1, 0, 0.1,  1, 0, 0, 0,  0, 0, 1, 0,  0, 0, 0, 1]\n");
+  const YAML::Node camera =
+      YAML::Load("left:\n  T_body_camera: [0, -1, 0, 0.1,  1, 0, 0, 0,  0, 0, 1, 0,  0, 0, 0, 1]\n");
   const auto calibration = io::apply_camera_overrides(camera, {});
   EXPECT_DOUBLE_EQ(calibration.left.T_body_camera(0, 1), -1.0);
   EXPECT_DOUBLE_EQ(calibration.left.T_body_camera.translation().x(), 0.1);
 
-  EXPECT_NE(error_of([] { io::apply_camera_overrides(YAML::Load("left: {distortion_model: fancy}"), {}); })
-                .find("camera.left.distortion_model"),
+  EXPECT_NE(error_of([] {
+              io::apply_camera_overrides(YAML::Load("left: {distortion_model: fancy}"), {});
+            }).find("camera.left.distortion_model"),
             std::string::npos);
-  EXPECT_NE(error_of([] { io::apply_camera_overrides(YAML::Load("left: {T_body_camera: [2, 0, 0, 0]}"), {}); })
-                .find("camera.left.T_body_camera"),
+  EXPECT_NE(error_of([] {
+              io::apply_camera_overrides(YAML::Load("left: {T_body_camera: [2, 0, 0, 0]}"), {});
+            }).find("camera.left.T_body_camera"),
             std::string::npos);
-  EXPECT_NE(error_of([] { io::apply_camera_overrides(YAML::Load("fx: wide"), {}); }).find("'fx'"),
-            std::string::npos);
+  EXPECT_NE(error_of([] { io::apply_camera_overrides(YAML::Load("fx: wide"), {}); }).find("'fx'"), std::string::npos);
   EXPECT_NE(error_of([] { io::validate_calibration({}, "mycalib"); }).find("mycalib"), std::string::npos);
-  io::StereoCalibration no_baseline = io::apply_camera_overrides(
-      YAML::Load("{width: 10, height: 10, fx: 5, fy: 5, cx: 5, cy: 5}"), {});
+  io::StereoCalibration no_baseline =
+      io::apply_camera_overrides(YAML::Load("{width: 10, height: 10, fx: 5, fy: 5, cx: 5, cy: 5}"), {});
   EXPECT_NE(error_of([&] { io::validate_calibration(no_baseline, "x"); }).find("baseline"), std::string::npos);
 }
 
@@ -100,8 +101,9 @@ TEST(CameraOverrides, CameraBodyTransformIsTheInverse) {
                                {});
   });
   EXPECT_NE(both.find("not both"), std::string::npos) << both;
-  EXPECT_NE(error_of([] { io::apply_camera_overrides(YAML::Load("right: {T_camera_body: [1, 0, 0]}"), {}); })
-                .find("camera.right.T_camera_body"),
+  EXPECT_NE(error_of([] {
+              io::apply_camera_overrides(YAML::Load("right: {T_camera_body: [1, 0, 0]}"), {});
+            }).find("camera.right.T_camera_body"),
             std::string::npos);
 }
 

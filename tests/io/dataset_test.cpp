@@ -19,7 +19,8 @@ namespace {
 cv::Mat pattern_image(int seed, int width = 16, int height = 12) {
   cv::Mat image(height, width, CV_8UC1);
   for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) image.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>((seed * 7 + x + 3 * y) % 256);
+    for (int x = 0; x < width; ++x)
+      image.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>((seed * 7 + x + 3 * y) % 256);
   return image;
 }
 
@@ -208,9 +209,9 @@ TEST(EurocDataset, PartialSensorYamlCompletedByTheConfig) {
   const auto& left = dataset.calibration().left;
   EXPECT_DOUBLE_EQ(left.fx, 99.0);
   EXPECT_DOUBLE_EQ(left.cy, 6.5);
-  EXPECT_EQ(left.width, 16);                                         // from the file
-  EXPECT_EQ(left.distortion, io::DistortionModel::radtan);           // from the file
-  EXPECT_DOUBLE_EQ(left.T_body_camera.translation().x(), -0.02);     // from the file
+  EXPECT_EQ(left.width, 16);                                      // from the file
+  EXPECT_EQ(left.distortion, io::DistortionModel::radtan);        // from the file
+  EXPECT_DOUBLE_EQ(left.T_body_camera.translation().x(), -0.02);  // from the file
   EXPECT_NEAR(dataset.calibration().baseline(), 0.11, 1e-12);
 
   // What neither gives is still named.

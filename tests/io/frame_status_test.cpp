@@ -10,11 +10,22 @@ namespace {
 
 TEST(FrameStatus, RoundTripWithQuotedNotes) {
   const auto dir = test::temp_dir("frame_status");
-  const std::vector<FrameStatus> written = {
-      {.index = 0, .timestamp_ns = 1403636584763555584, .state = "tracked", .segment = 0, .keyframe = true,
-       .point_inliers = 210, .line_inliers = 7, .note = "new map segment 0"},
-      {.index = 1, .timestamp_ns = -5, .state = "relocalised", .segment = 2, .keyframe = false, .point_inliers = 40,
-       .line_inliers = 0, .note = "relocalised at keyframe 3 (appearance+recency), \"twice\""}};
+  const std::vector<FrameStatus> written = {{.index = 0,
+                                             .timestamp_ns = 1403636584763555584,
+                                             .state = "tracked",
+                                             .segment = 0,
+                                             .keyframe = true,
+                                             .point_inliers = 210,
+                                             .line_inliers = 7,
+                                             .note = "new map segment 0"},
+                                            {.index = 1,
+                                             .timestamp_ns = -5,
+                                             .state = "relocalised",
+                                             .segment = 2,
+                                             .keyframe = false,
+                                             .point_inliers = 40,
+                                             .line_inliers = 0,
+                                             .note = "relocalised at keyframe 3 (appearance+recency), \"twice\""}};
   std::string text = std::string(kFrameStatusHeader) + "\n";
   for (const auto& s : written) text += format_frame_status(s);
   test::write_text(dir / "frames.csv", text);
@@ -35,8 +46,9 @@ TEST(FrameStatus, RoundTripWithQuotedNotes) {
 TEST(FrameStatus, MalformedFilesNameTheFileAndLine) {
   const auto dir = test::temp_dir("frame_status_bad");
   test::write_text(dir / "header.csv", "index,timestamp\n0,1\n");
-  EXPECT_NE(test::error_of([&] { read_frame_status(dir / "header.csv"); }).find("header.csv:1: not a frame status file"),
-            std::string::npos);
+  EXPECT_NE(
+      test::error_of([&] { read_frame_status(dir / "header.csv"); }).find("header.csv:1: not a frame status file"),
+      std::string::npos);
   test::write_text(dir / "fields.csv", std::string(kFrameStatusHeader) + "\n0,1,tracked,0,1,5\n");
   EXPECT_NE(test::error_of([&] { read_frame_status(dir / "fields.csv"); }).find("fields.csv:2: expected 8"),
             std::string::npos);

@@ -59,11 +59,13 @@ TEST(KalibrCamchain, CamerasAndTheChainTransform) {
 
 TEST(KalibrCamchain, ImuCamFileUsesTheImuAsBody) {
   std::string text = kCamchain;
-  const std::string imu0 = "  T_cam_imu:\n  - [1.0, 0.0, 0.0, 0.0]\n  - [0.0, 1.0, 0.0, 0.05]\n"
-                           "  - [0.0, 0.0, 1.0, 0.0]\n  - [0.0, 0.0, 0.0, 1.0]\n";
+  const std::string imu0 =
+      "  T_cam_imu:\n  - [1.0, 0.0, 0.0, 0.0]\n  - [0.0, 1.0, 0.0, 0.05]\n"
+      "  - [0.0, 0.0, 1.0, 0.0]\n  - [0.0, 0.0, 0.0, 1.0]\n";
   // cam1 from the IMU = cam1 from cam0 * cam0 from the IMU.
-  const std::string imu1 = "  T_cam_imu:\n  - [0.0, 1.0, 0.0, 0.05]\n  - [-1.0, 0.0, 0.0, 0.1]\n"
-                           "  - [0.0, 0.0, 1.0, 0.0]\n  - [0.0, 0.0, 0.0, 1.0]\n";
+  const std::string imu1 =
+      "  T_cam_imu:\n  - [0.0, 1.0, 0.0, 0.05]\n  - [-1.0, 0.0, 0.0, 0.1]\n"
+      "  - [0.0, 0.0, 1.0, 0.0]\n  - [0.0, 0.0, 0.0, 1.0]\n";
   text.insert(text.find("cam1:\n"), imu0);
   text += imu1;
   const fs::path file = test::temp_dir("kalibr_imu") / "camchain-imucam.yaml";

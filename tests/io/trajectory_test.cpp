@@ -116,8 +116,9 @@ TEST(Positions, BlankSecondsOrCommaNanosecondsWithIdentityRotations) {
   EXPECT_EQ(gt.format, io::TrajectoryFormat::positions);
   EXPECT_NE(gt.note.find("positions only"), std::string::npos);
   // Body poses need their orientation to reach the camera: asking for that conversion is an error.
-  EXPECT_NE(test::error_of([&] { io::read_groundtruth(dir / "seconds.txt", {.frame = io::PoseFrame::body}); })
-                .find("positions only"),
+  EXPECT_NE(test::error_of([&] {
+              io::read_groundtruth(dir / "seconds.txt", {.frame = io::PoseFrame::body});
+            }).find("positions only"),
             std::string::npos);
   // A line of another width names the file and line.
   write_text(dir / "ragged.txt", "1 2 3 4\n5 6 7\n");
@@ -130,8 +131,10 @@ TEST(Positions, BlankSecondsOrCommaNanosecondsWithIdentityRotations) {
 TEST(GroundTruth, OrientationAsWrittenInvertedOrIgnored) {
   const fs::path base = test::temp_dir("gt_orientation");
   const double c = std::sqrt(0.5);  // 90 deg about z
-  const std::string rows = fmt::format("#timestamp [ns],px,py,pz,qw,qx,qy,qz\n1000000000,1,2,3,{0},0,0,{0}\n"
-                                       "1100000000,1,2,4,{0},0,0,{0}\n", c);
+  const std::string rows = fmt::format(
+      "#timestamp [ns],px,py,pz,qw,qx,qy,qz\n1000000000,1,2,3,{0},0,0,{0}\n"
+      "1100000000,1,2,4,{0},0,0,{0}\n",
+      c);
   fs::create_directories(base / "EuRoC_left_cam");
   write_text(base / "EuRoC_left_cam" / "MH01_GT.txt", rows);
   write_text(base / "other_gt.csv", rows);
@@ -143,9 +146,13 @@ TEST(GroundTruth, OrientationAsWrittenInvertedOrIgnored) {
   EXPECT_TRUE(other.poses[1].pose.linear().isApprox(written, 1e-12));
   using O = io::GroundTruthOrientation;
   EXPECT_TRUE(io::read_groundtruth(base / "EuRoC_left_cam" / "MH01_GT.txt", {.orientation = O::as_written})
-                  .poses[1].pose.linear().isApprox(written, 1e-12));
+                  .poses[1]
+                  .pose.linear()
+                  .isApprox(written, 1e-12));
   EXPECT_TRUE(io::read_groundtruth(base / "other_gt.csv", {.orientation = O::inverse})
-                  .poses[1].pose.linear().isApprox(written.transpose(), 1e-12));
+                  .poses[1]
+                  .pose.linear()
+                  .isApprox(written.transpose(), 1e-12));
   const auto ignored = io::read_groundtruth(base / "other_gt.csv", {.orientation = O::none});
   EXPECT_FALSE(ignored.has_orientation);
   EXPECT_TRUE(ignored.poses[1].pose.linear().isIdentity());
@@ -227,8 +234,8 @@ TEST(MapPly, HeaderCountsAndEdgesReferenceLineEndpoints) {
   for (std::string row; std::getline(in, row);) rows.push_back(row);
   ASSERT_EQ(rows.size(), 14u);
   EXPECT_EQ(rows[5], "0.000000 0.000000 3.000000 255 40 40");  // second line's start vertex (index 5)
-  EXPECT_EQ(rows[11], "5 6 255 40 40");                           // second line's edge
-  EXPECT_EQ(rows[13], "8 9 40 220 40");                           // last path segment
+  EXPECT_EQ(rows[11], "5 6 255 40 40");                        // second line's edge
+  EXPECT_EQ(rows[13], "8 9 40 220 40");                        // last path segment
   EXPECT_FALSE(fs::exists(file.string() + ".tmp"));
 }
 

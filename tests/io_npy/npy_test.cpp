@@ -84,13 +84,13 @@ TEST(Npy, ErrorsNameTheFileAndTheProblem) {
   test::write_text(dir / "bad_magic.npy", "PNG....");
   expect_error(dir / "bad_magic.npy", "bad magic");
   test::write_text(dir / "fortran.npy",
-                  npy_bytes("{'descr': '<f4', 'fortran_order': True, 'shape': (1,), }", std::string(4, '\0')));
+                   npy_bytes("{'descr': '<f4', 'fortran_order': True, 'shape': (1,), }", std::string(4, '\0')));
   expect_error(dir / "fortran.npy", "Fortran");
   test::write_text(dir / "big_endian.npy",
-                  npy_bytes("{'descr': '>f4', 'fortran_order': False, 'shape': (1,), }", std::string(4, '\0')));
+                   npy_bytes("{'descr': '>f4', 'fortran_order': False, 'shape': (1,), }", std::string(4, '\0')));
   expect_error(dir / "big_endian.npy", "unsupported dtype");
   test::write_text(dir / "short.npy",
-                  npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (4,), }", std::string(8, '\0')));
+                   npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (4,), }", std::string(8, '\0')));
   expect_error(dir / "short.npy", "truncated");
 }
 

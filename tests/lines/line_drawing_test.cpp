@@ -1,7 +1,7 @@
 // Debug overlays: line colours, matched lines sharing a colour across the two halves, circle radius by the
 // number of lines a point belongs to.
-#include "common/test_support.hpp"
 #include "features/lines/line_drawing.hpp"
+#include "common/test_support.hpp"
 
 namespace vkvo::features {
 namespace {
@@ -64,7 +64,7 @@ TEST(LineDrawing, MatchedLinesShareAColourUnmatchedAreGrey) {
   b.lines = {{{10, 70}, {90, 70}}, {{10, 30}, {90, 30}}};
   const cv::Mat overlay = draw_line_matches(a, b, {1, -1});
   ASSERT_EQ(overlay.cols, 200);
-  EXPECT_TRUE(colour_near(overlay, 50, 10, distinct_colour(0)));   // A0 <-> B1 share a colour
+  EXPECT_TRUE(colour_near(overlay, 50, 10, distinct_colour(0)));  // A0 <-> B1 share a colour
   EXPECT_TRUE(colour_near(overlay, 150, 30, distinct_colour(0)));
   EXPECT_TRUE(colour_near(overlay, 50, 50, cv::Scalar::all(140)));  // unmatched: grey
   EXPECT_TRUE(colour_near(overlay, 150, 70, cv::Scalar::all(140)));

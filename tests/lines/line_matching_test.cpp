@@ -1,7 +1,7 @@
 // Line matching through point matches (paper eq. 2) on constructed associations: correct pairs, ambiguous pairs
 // resolved one-to-one by score, too few shared points, and input validation.
-#include "common/test_support.hpp"
 #include "features/lines/line_matching.hpp"
+#include "common/test_support.hpp"
 
 namespace vkvo::features {
 namespace {

@@ -35,8 +35,10 @@ TEST(LineMerge, AngleConditionIsStrictAtDeltaTheta) {
   const Eigen::Vector2f o(100, 100);
   const LineSegment base = along(o, 0.3f, 0, 100);
   // Second segment overlaps the first and shares its midpoint, so only the angle decides.
-  EXPECT_TRUE(segments_mergeable(base, along(o + 50 * Eigen::Vector2f(std::cos(0.3f), std::sin(0.3f)), 0.3f + 0.029f, -40, 40), kParams));
-  EXPECT_FALSE(segments_mergeable(base, along(o + 50 * Eigen::Vector2f(std::cos(0.3f), std::sin(0.3f)), 0.3f + 0.031f, -40, 40), kParams));
+  EXPECT_TRUE(segments_mergeable(
+      base, along(o + 50 * Eigen::Vector2f(std::cos(0.3f), std::sin(0.3f)), 0.3f + 0.029f, -40, 40), kParams));
+  EXPECT_FALSE(segments_mergeable(
+      base, along(o + 50 * Eigen::Vector2f(std::cos(0.3f), std::sin(0.3f)), 0.3f + 0.031f, -40, 40), kParams));
   // Undirected: reversed endpoints are the same line.
   const LineSegment reversed{base.p1, base.p0};
   EXPECT_TRUE(segments_mergeable(base, reversed, kParams));

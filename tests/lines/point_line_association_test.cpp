@@ -23,7 +23,7 @@ TEST(PointLineAssociation, DistanceBoundaryIsStrict) {
 
 TEST(PointLineAssociation, ExtentMarginAtSegmentEnds) {
   const LineSegment horizontal{{100, 50}, {200, 50}};
-  EXPECT_TRUE(point_belongs_to_segment({97.0f, 50}, horizontal, kParams));   // margin is inclusive
+  EXPECT_TRUE(point_belongs_to_segment({97.0f, 50}, horizontal, kParams));  // margin is inclusive
   EXPECT_FALSE(point_belongs_to_segment({96.9f, 50}, horizontal, kParams));
   EXPECT_TRUE(point_belongs_to_segment({203.0f, 51}, horizontal, kParams));
   EXPECT_FALSE(point_belongs_to_segment({203.1f, 51}, horizontal, kParams));

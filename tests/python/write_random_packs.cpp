@@ -24,15 +24,17 @@ void write_pack(const io::ModelPack& pack, const std::filesystem::path& file) {
     std::visit(
         [&, &key = key](const auto& v) {
           using T = std::decay_t<decltype(v)>;
-          if constexpr (std::is_same_v<T, double>) writer.set_number(key, v);
-          else if constexpr (std::is_same_v<T, std::string>) writer.set_string(key, v);
-          else writer.set_numbers(key, v);
+          if constexpr (std::is_same_v<T, double>)
+            writer.set_number(key, v);
+          else if constexpr (std::is_same_v<T, std::string>)
+            writer.set_string(key, v);
+          else
+            writer.set_numbers(key, v);
         },
         value);
   }
   for (const auto& tensor : pack.tensors())
-    writer.add_tensor(tensor.name, tensor.shape, tensor.layout, pack.floats(tensor.name, tensor.dtype),
-                      {tensor.dtype});
+    writer.add_tensor(tensor.name, tensor.shape, tensor.layout, pack.floats(tensor.name, tensor.dtype), {tensor.dtype});
   writer.write(file);
 }
 

@@ -58,11 +58,11 @@ TEST(Context, WithoutSixteenBitFeaturesOnlyFp32Runs) {
   EXPECT_FALSE(context.caps().supports(Precision::fp16));
   EXPECT_EQ(context.profile().precision, Precision::fp32);
   EXPECT_NO_THROW(context.caps().require(Precision::fp32, "test"));
-  const std::string error = test::error_of([&] {
-    Kernel kernel(context, {.op = Op::gemm, .precision = Precision::fp16s});
-  });
+  const std::string error =
+      test::error_of([&] { Kernel kernel(context, {.op = Op::gemm, .precision = Precision::fp16s}); });
   EXPECT_NE(error.find("shader gemm: device '" + context.caps().name + "' does not support precision fp16s"),
-            std::string::npos) << error;
+            std::string::npos)
+      << error;
   EXPECT_NE(error.find("16-bit storage"), std::string::npos) << error;
 }
 
@@ -83,9 +83,7 @@ TEST(Context, NoVulkanDriverIsAClearError) {
 
 TEST(Context, PipelineCacheIsWrittenToDisk) {
   const auto dir = test::temp_dir("pipeline_cache") / "cache";  // not there yet: the context makes it
-  {
-    const Context context({.validation = false, .cache_dir = dir});
-  }
+  { const Context context({.validation = false, .cache_dir = dir}); }
   ASSERT_TRUE(std::filesystem::exists(dir));
   EXPECT_FALSE(std::filesystem::is_empty(dir));
 }

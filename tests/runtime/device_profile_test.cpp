@@ -10,13 +10,23 @@ namespace vkvo::rt {
 namespace {
 
 DeviceCaps lavapipe() {
-  return {.name = "llvmpipe (LLVM 15.0.6, 256 bits)", .type = "cpu", .float16_arithmetic = true,
-          .storage_16bit = true, .int64 = true, .subgroup_size = 8, .max_shared_memory_bytes = 32768};
+  return {.name = "llvmpipe (LLVM 15.0.6, 256 bits)",
+          .type = "cpu",
+          .float16_arithmetic = true,
+          .storage_16bit = true,
+          .int64 = true,
+          .subgroup_size = 8,
+          .max_shared_memory_bytes = 32768};
 }
 
 DeviceCaps h200() {
-  return {.name = "NVIDIA H200", .type = "discrete", .float16_arithmetic = true, .storage_16bit = true,
-          .int64 = true, .subgroup_size = 32, .max_shared_memory_bytes = 49152};
+  return {.name = "NVIDIA H200",
+          .type = "discrete",
+          .float16_arithmetic = true,
+          .storage_16bit = true,
+          .int64 = true,
+          .subgroup_size = 32,
+          .max_shared_memory_bytes = 49152};
 }
 
 // Every field of `profile` as `expected` has it.
@@ -34,19 +44,27 @@ void expect_choices(const DeviceProfile& profile, const DeviceProfile& expected)
 // fp32 (fp16 math is emulated, 16-bit storage gains nothing), the wide GEMM tile, Winograd and 1x1 layers as GEMMs,
 // the register attention with 8 rows, an invocation per Sinkhorn line and the fused Sinkhorn up to 48 Ki couplings.
 TEST(DeviceProfile, CpuDeviceChoices) {
-  expect_choices(make_device_profile(lavapipe()),
-                 {.precision = Precision::fp32, .wide_gemm_tile = true, .winograd = true, .conv1x1_as_gemm = true,
-                  .shared_attention = false, .attention_rows = 8, .sinkhorn_workgroup_per_line = false,
-                  .fused_sinkhorn_max_cells = 48 * 1024});
+  expect_choices(make_device_profile(lavapipe()), {.precision = Precision::fp32,
+                                                   .wide_gemm_tile = true,
+                                                   .winograd = true,
+                                                   .conv1x1_as_gemm = true,
+                                                   .shared_attention = false,
+                                                   .attention_rows = 8,
+                                                   .sinkhorn_workgroup_per_line = false,
+                                                   .fused_sinkhorn_max_cells = 48 * 1024});
 }
 
 // 16-bit storage with fp32 math, the 4 x 8 GEMM tile, direct convolutions, the shared-memory attention and a
 // workgroup per Sinkhorn line, never the fused Sinkhorn.
 TEST(DeviceProfile, DiscreteGpuChoices) {
-  expect_choices(make_device_profile(h200()),
-                 {.precision = Precision::fp16s, .wide_gemm_tile = false, .winograd = false, .conv1x1_as_gemm = false,
-                  .shared_attention = true, .attention_rows = 4, .sinkhorn_workgroup_per_line = true,
-                  .fused_sinkhorn_max_cells = 0});
+  expect_choices(make_device_profile(h200()), {.precision = Precision::fp16s,
+                                               .wide_gemm_tile = false,
+                                               .winograd = false,
+                                               .conv1x1_as_gemm = false,
+                                               .shared_attention = true,
+                                               .attention_rows = 4,
+                                               .sinkhorn_workgroup_per_line = true,
+                                               .fused_sinkhorn_max_cells = 0});
 }
 
 TEST(DeviceProfile, GpuWithoutSixteenBitStorageDefaultsToFp32) {

@@ -98,7 +98,8 @@ void check_conv_max_pool(Precision precision, const ConvCase& c, std::uint32_t s
   auto& ctx = gpu();
   const auto input = as_stored(random_values(std::size_t(c.in_c) * c.h * c.w, seed), precision);
   const Precision weight_precision = conv_weight_precision(precision);
-  const auto weights = as_stored(random_values(std::size_t(c.out_c) * c.in_c * 9, seed + 1, -0.5f, 0.5f), weight_precision);
+  const auto weights =
+      as_stored(random_values(std::size_t(c.out_c) * c.in_c * 9, seed + 1, -0.5f, 0.5f), weight_precision);
   const auto bias = random_values(c.out_c, seed + 2);
   const auto conv = reference_conv(input, weights, bias, c.in_c, c.out_c, c.h, c.w, 3, c.relu);
   const auto expected = reference_max_pool(conv, c.out_c, c.h, c.w);
@@ -182,8 +183,8 @@ TEST(Conv2d, MisalignedTexelBindingIsAClearError) {
 // 37 input channels run conv1x1.comp; the others conv1x1_tiled.comp where the device has it (checked below).
 TEST_P(Kernels, Conv1x1MatchesReference) {
   constexpr auto automatic = Conv3x3Kernel::automatic;  // `direct` would keep every 1x1 on conv1x1.comp
-  check_conv(precision(), {37, 65, 5, 11, 1, 0, 0, false}, 21, automatic);  // like the 65-channel detector head
-  check_conv(precision(), {8, 12, 7, 9, 1, 1, 1, true}, 22, automatic);     // padded input and output
+  check_conv(precision(), {37, 65, 5, 11, 1, 0, 0, false}, 21, automatic);   // like the 65-channel detector head
+  check_conv(precision(), {8, 12, 7, 9, 1, 1, 1, true}, 22, automatic);      // padded input and output
   check_conv(precision(), {256, 65, 7, 13, 1, 0, 0, false}, 23, automatic);  // partial 8-channel group and 8-pixel tile
   check_conv(precision(), {4, 40, 5, 19, 1, 0, 0, true}, 24, automatic);     // one step of 4 input channels
   check_conv(precision(), {12, 9, 3, 17, 1, 1, 0, true}, 25, automatic);     // padded input only
@@ -211,8 +212,8 @@ TEST_P(Kernels, Conv1x1AsGemmMatchesReference) {
     const auto expected = reference_conv(input, weights, bias, in_c, out_c, h, w, 1, relu);
     const ActivationShape in{std::uint32_t(in_c), std::uint32_t(h), std::uint32_t(w), 0};
     auto in_buf = test::upload_tensor(ctx, input, precision());
-    auto w_buf = test::upload_tensor(
-        ctx, unpack_conv_o4(pack_conv_o4(weights, out_c, in_c, 1, 1), out_c, in_c, 1, 1), precision());
+    auto w_buf = test::upload_tensor(ctx, unpack_conv_o4(pack_conv_o4(weights, out_c, in_c, 1, 1), out_c, in_c, 1, 1),
+                                     precision());
     Buffer b_buf(ctx, bias.size() * sizeof(float));
     b_buf.upload(std::span<const float>(bias));
     Buffer out_buf(ctx, expected.size() * storage_bytes(precision()));
@@ -318,8 +319,8 @@ TEST_P(Kernels, GemmTiledKernelMatchesReference) {
   const std::uint32_t per_texel = precision() == Precision::fp32 ? 4 : 8;
   for (const GemmKernel tiled : {GemmKernel::tiled, GemmKernel::tiled_wide}) {
     check_gemm(precision(), {.m = 37, .n = 64 + per_texel, .k = 128, .b_transposed = false}, true, 51, tiled);
-    check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true,
-               52, tiled);
+    check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true, 52,
+               tiled);
     check_gemm(precision(), {.m = 300, .n = 40, .k = 256, .b_transposed = true}, false, 53, tiled);
     check_gemm(precision(), {.m = 5, .n = 8 + per_texel, .k = per_texel, .b_transposed = false, .relu = true}, false,
                54, tiled);
@@ -333,8 +334,9 @@ TEST_P(Kernels, GemmTiledKernelMatchesReference) {
     check_gemm(precision(), {.m = 37, .n = 64, .k = 32, .b_transposed = true, .relu = true, .accumulate = true}, true,
                58, tiled);
     check_gemm(precision(), {.m = 37, .n = 23, .k = 32, .b_transposed = true, .accumulate = true}, false, 59, tiled);
-    check_gemm(precision(), {.m = 19, .n = 2 * per_texel, .k = 16, .b_transposed = false, .accumulate = true,
-                             .bias_per_row = true}, true, 60, tiled);
+    check_gemm(precision(),
+               {.m = 19, .n = 2 * per_texel, .k = 16, .b_transposed = false, .accumulate = true, .bias_per_row = true},
+               true, 60, tiled);
   }
 }
 

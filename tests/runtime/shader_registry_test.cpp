@@ -74,7 +74,8 @@ TEST(ShaderRegistry, WinogradIsCompiledForFp32Only) {
   EXPECT_FALSE(op_info(Op::winograd_f43_input).compiled_for(Precision::fp16s));
   const std::string error = test::error_of([] { find_shader(Op::winograd_f63_output, Precision::fp16); });
   EXPECT_NE(error.find("shader winograd_f63_output has no fp16 variant: the shader table compiles it for fp32 only"),
-            std::string::npos) << error;
+            std::string::npos)
+      << error;
   EXPECT_EQ(op_info(Op::winograd_f43_input_wide).feature, ShaderFeature::int64);
   EXPECT_EQ(op_info(Op::winograd_f43_input).feature, ShaderFeature::none);
 }
@@ -126,12 +127,12 @@ TEST(ShaderRegistry, NoShaderReadsATexelBufferThroughASampler) {
 // The checker itself, on a hand-assembled stream: image %1 (Dim Buffer), sampled image %2 of it.
 TEST(ShaderRegistry, CheckerFindsASampledBufferImage) {
   const std::uint32_t float_type = 3;
-  const std::uint32_t words[] = {kSpirvMagic, 0x00010300u, 0, 10, 0,
-                                 (9u << 16) | kOpTypeImage, 1, float_type, kDimBuffer, 0, 0, 0, 1, 0,
-                                 (3u << 16) | kOpTypeSampledImage, 2, 1};
+  const std::uint32_t words[] = {
+      kSpirvMagic, 0x00010300u, 0, 10, 0, (9u << 16) | kOpTypeImage,        1, float_type, kDimBuffer,
+      0,           0,           0, 1,  0, (3u << 16) | kOpTypeSampledImage, 2, 1};
   EXPECT_EQ(buffer_images(words).sampled, std::set<std::uint32_t>{1});
-  const std::uint32_t clean[] = {kSpirvMagic, 0x00010300u, 0, 10, 0,
-                                 (9u << 16) | kOpTypeImage, 1, float_type, kDimBuffer, 0, 0, 0, 1, 0};
+  const std::uint32_t clean[] = {
+      kSpirvMagic, 0x00010300u, 0, 10, 0, (9u << 16) | kOpTypeImage, 1, float_type, kDimBuffer, 0, 0, 0, 1, 0};
   const BufferImages images = buffer_images(clean);
   EXPECT_EQ(images.declared, std::set<std::uint32_t>{1});
   EXPECT_TRUE(images.sampled.empty());

@@ -68,8 +68,10 @@ void check_winograd(const WinogradCase& c, std::uint32_t seed, Tile tile, const 
   const ActivationShape out{std::uint32_t(c.out_c), std::uint32_t(oh), std::uint32_t(ow), std::uint32_t(c.out_pad)};
   const Precision fp32 = Precision::fp32;
   const ActivationShape image_shape{1, std::uint32_t(c.h), std::uint32_t(c.w), 1};
-  auto in_buf = c.stem ? test::upload_tensor(ctx, with_nan_row_padding(test::add_border(image, 1, c.h, c.w, 1), image_shape), fp32)
-                       : test::upload_tensor(ctx, with_nan_row_padding(test::add_border(input, c.in_c, c.h, c.w, 1), in), fp32);
+  auto in_buf =
+      c.stem
+          ? test::upload_tensor(ctx, with_nan_row_padding(test::add_border(image, 1, c.h, c.w, 1), image_shape), fp32)
+          : test::upload_tensor(ctx, with_nan_row_padding(test::add_border(input, c.in_c, c.h, c.w, 1), in), fp32);
   auto stem_w_buf = test::upload_tensor(ctx, pack_conv_o4(stem_weights, c.in_c, 1, 3, 3), fp32);
   Buffer stem_b_buf(ctx, round_up(c.in_c, 4) * sizeof(float));
   stem_b_buf.upload(std::span<const float>(pad_bias_o4(stem_bias)));
@@ -102,9 +104,11 @@ void check_winograd(const WinogradCase& c, std::uint32_t seed, Tile tile, const 
   const auto padded = test::download_tensor(out_buf, out.elements(), fp32);
   const auto got = test::strip_border(padded, c.out_c, oh, ow, c.out_pad);
   EXPECT_LE(test::max_abs_diff(got, expected), winograd_tolerance(conv, tile))
-      << "winograd F(" << std::uint32_t(tile) << "x" << std::uint32_t(tile) << ", 3x3) conv " << (c.stem ? "(after a 1-channel stem) " : "") << c.in_c << "->" << c.out_c << " at " << c.w << "x" << c.h
-      << (c.max_pool ? " + maxpool" : "") << ", " << (op.tiles_y(in) + op.band_rows(in, out.channels) - 1) / op.band_rows(in, out.channels)
-      << " band(s), " << (op.wide_input_transform(in) ? 8 : 4) << " channels per input-transform invocation";
+      << "winograd F(" << std::uint32_t(tile) << "x" << std::uint32_t(tile) << ", 3x3) conv "
+      << (c.stem ? "(after a 1-channel stem) " : "") << c.in_c << "->" << c.out_c << " at " << c.w << "x" << c.h
+      << (c.max_pool ? " + maxpool" : "") << ", "
+      << (op.tiles_y(in) + op.band_rows(in, out.channels) - 1) / op.band_rows(in, out.channels) << " band(s), "
+      << (op.wide_input_transform(in) ? 8 : 4) << " channels per input-transform invocation";
   // The border of a padded output must stay zero: the next 3x3 layer reads it as padding.
   if (c.out_pad) {
     const auto interior = test::add_border(got, c.out_c, oh, ow, c.out_pad);
@@ -121,8 +125,8 @@ TEST(WinogradConv3x3, MatchesTheDirectConvolution) {
     check_winograd({4, 8, 5, 6, 0, false, false}, 61, tile);
     check_winograd({16, 6, 9, 7, 1, true, false}, 62, tile);
     check_winograd({64, 64, 13, 29, 1, true, false}, 63, tile);
-    check_winograd({8, 4, 41, 37, 1, false, false}, 64, tile);   // 110 (F43) or 49 (F63) tiles
-    check_winograd({8, 4, 61, 67, 1, false, false}, 66, tile);   // 204 or 132 tiles: 3 workgroups
+    check_winograd({8, 4, 41, 37, 1, false, false}, 64, tile);    // 110 (F43) or 49 (F63) tiles
+    check_winograd({8, 4, 61, 67, 1, false, false}, 66, tile);    // 204 or 132 tiles: 3 workgroups
     check_winograd({128, 256, 6, 10, 0, true, false}, 65, tile);  // convPa / convDa's shape
   }
 }

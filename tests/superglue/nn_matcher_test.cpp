@@ -91,8 +91,8 @@ TEST(NnMatcher, GateAndRatioTestAgreeWithBruteForce) {
     for (int c = 0; c < 32; ++c) b.descriptors(i, c) = a.descriptors(i, c) + noise(rng);
     b.descriptors.row(i).normalize();
   }
-  for (const NnMatcherParams p : {NnMatcherParams{0.245f, 0.0f}, NnMatcherParams{0.5f, 0.8f},
-                                  NnMatcherParams{2.0f, 0.0f}}) {
+  for (const NnMatcherParams p :
+       {NnMatcherParams{0.245f, 0.0f}, NnMatcherParams{0.5f, 0.8f}, NnMatcherParams{2.0f, 0.0f}}) {
     NnMatcher matcher(gpu(), p);
     const PointMatches got = matcher.match(a, b);
     const PointMatches want = brute_force(a, b, p);
@@ -122,7 +122,8 @@ TEST(NnMatcher, LargestSets) {
   NnMatcher matcher(gpu());
   const PointMatches m = matcher.match(a, b);
   ASSERT_EQ(m.matches0.size(), 2048u);
-  for (int i = 0; i < 1500; ++i) EXPECT_EQ(m.matches0[std::size_t(i)], perm[std::size_t(i)]) << "planted keypoint " << i;
+  for (int i = 0; i < 1500; ++i)
+    EXPECT_EQ(m.matches0[std::size_t(i)], perm[std::size_t(i)]) << "planted keypoint " << i;
   EXPECT_EQ(m.matches0, brute_force(a, b, {}).matches0);
 }
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
 #include <fmt/format.h>
+#include <Eigen/Core>
 
 #include "features/point_features.hpp"
 #include "features/superglue.hpp"
@@ -78,7 +78,10 @@ inline MatrixD reference_optimal_transport(const MatrixD& scores, double bin_sco
   log_mu(m) = std::log(double(n)) + norm;
   log_nu(n) = std::log(double(m)) + norm;
   Eigen::VectorXd u = Eigen::VectorXd::Zero(m + 1), v = Eigen::VectorXd::Zero(n + 1);
-  auto lse = [](const Eigen::ArrayXd& x) { const double p = x.maxCoeff(); return p + std::log((x - p).exp().sum()); };
+  auto lse = [](const Eigen::ArrayXd& x) {
+    const double p = x.maxCoeff();
+    return p + std::log((x - p).exp().sum());
+  };
   for (int it = 0; it < iterations; ++it) {
     for (Eigen::Index i = 0; i <= m; ++i) u(i) = log_mu(i) - lse(z.row(i).transpose().array() + v.array());
     for (Eigen::Index j = 0; j <= n; ++j) v(j) = log_nu(j) - lse(z.col(j).array() + u.array());

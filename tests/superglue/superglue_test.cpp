@@ -23,8 +23,7 @@ std::ptrdiff_t sinkhorn_dispatches(const std::vector<rt::CommandTiming>& timings
 
 // Attention computed as q.k GEMM, softmax and p.v GEMM rather than by the fused kernel.
 std::ptrdiff_t three_pass_attentions(const std::vector<rt::CommandTiming>& timings) {
-  return std::count_if(timings.begin(), timings.end(),
-                       [](const auto& t) { return t.label.ends_with(" attn q.k"); });
+  return std::count_if(timings.begin(), timings.end(), [](const auto& t) { return t.label.ends_with(" attn q.k"); });
 }
 
 class SuperGlueRandom : public ::testing::TestWithParam<rt::Precision> {
@@ -34,7 +33,9 @@ class SuperGlueRandom : public ::testing::TestWithParam<rt::Precision> {
     if (!gpu().caps().supports(GetParam()))
       GTEST_SKIP() << gpu().caps().name << " does not support " << rt::to_string(GetParam());
   }
-  SuperGlueParams params() const { return {.match_threshold = 0.2f, .sinkhorn_iterations = 0, .precision = GetParam()}; }
+  SuperGlueParams params() const {
+    return {.match_threshold = 0.2f, .sinkhorn_iterations = 0, .precision = GetParam()};
+  }
   // Log-assignment tolerance: fp32 shaders vs the double reference differ by summation order only; fp16 storage
   // rounds every activation to 11 bits (same bound as golden/README.md).
   double tolerance() const { return GetParam() == rt::Precision::fp32 ? 1e-3 : 0.05; }
@@ -49,14 +50,15 @@ std::pair<PointFeatures, PointFeatures> make_pair(std::size_t n0, std::size_t n1
   for (std::size_t j = 0; j < std::min(n0, n1) * 2 / 3; ++j) {
     const std::size_t i = (j * 7 + 3) % n0;
     b.keypoints[j] = a.keypoints[i] + Eigen::Vector2f(noise(rng) * 10, noise(rng) * 10);
-    for (int c = 0; c < dim; ++c) b.descriptors(Eigen::Index(j), c) = a.descriptors(Eigen::Index(i), c) + noise(rng) / 4;
+    for (int c = 0; c < dim; ++c)
+      b.descriptors(Eigen::Index(j), c) = a.descriptors(Eigen::Index(i), c) + noise(rng) / 4;
     b.descriptors.row(Eigen::Index(j)).normalize();
   }
   return {a, b};
 }
 
-void expect_matches_reference(SuperGlue& net, const io::ModelPack& pack, const PointFeatures& a,
-                              const PointFeatures& b, double tolerance, double min_identical) {
+void expect_matches_reference(SuperGlue& net, const io::ModelPack& pack, const PointFeatures& a, const PointFeatures& b,
+                              double tolerance, double min_identical) {
   Eigen::MatrixXf la;
   const PointMatches got = net.match(a, b, &la);
   const auto ref = test::reference_superglue(pack, a, b, 0.2, net.config().sinkhorn_iterations);

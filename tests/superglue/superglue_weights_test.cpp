@@ -55,8 +55,8 @@ class SuperGlueWeightsTest : public ::testing::Test {
 TEST_F(SuperGlueWeightsTest, HeadMajorSourceInvertsTheOfficialSplit) {
   // head h, dimension d sits at channel d * heads + h officially and at h * head_dim + d head-major.
   EXPECT_EQ(head_major_source(0, 4, 8), 0);
-  EXPECT_EQ(head_major_source(1, 4, 8), 4);   // head 0, d = 1
-  EXPECT_EQ(head_major_source(8, 4, 8), 1);   // head 1, d = 0
+  EXPECT_EQ(head_major_source(1, 4, 8), 4);    // head 0, d = 1
+  EXPECT_EQ(head_major_source(8, 4, 8), 1);    // head 1, d = 0
   EXPECT_EQ(head_major_source(31, 4, 8), 31);  // head 3, d = 7
   std::vector<bool> seen(32, false);
   for (int c = 0; c < 32; ++c) seen[std::size_t(head_major_source(c, 4, 8))] = true;
@@ -91,8 +91,7 @@ TEST_F(SuperGlueWeightsTest, FoldedMlp0IsMergeThenMlp0) {
     folded_input << x, head_major(message, spec.heads);
     const MatrixD expected = mlp0.apply(official);
     const MatrixD got = as_reference(prepared, prepared.gnn[layer].mlp0).apply(folded_input);
-    EXPECT_LE((got - expected).cwiseAbs().maxCoeff(), kTolerance * expected.cwiseAbs().maxCoeff())
-        << "layer " << layer;
+    EXPECT_LE((got - expected).cwiseAbs().maxCoeff(), kTolerance * expected.cwiseAbs().maxCoeff()) << "layer " << layer;
   }
 }
 

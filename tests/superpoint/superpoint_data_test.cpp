@@ -17,9 +17,9 @@
 
 #include "common/gpu.hpp"
 #include "common/test_support.hpp"
-#include "superpoint/superpoint_reference.hpp"
 #include "features/superpoint.hpp"
 #include "io/npy.hpp"
+#include "superpoint/superpoint_reference.hpp"
 #include "tools/convert/convert.hpp"
 
 namespace vkvo::features {
@@ -128,7 +128,8 @@ TEST_P(SuperPointGolden, MatchesPyTorchReference) {
 
   const DenseTolerance tolerance = dense_tolerance(c.precision);
   // Dense scores: same shape (floor to multiples of 8), max abs error within the variant's tolerance.
-  ASSERT_EQ(g.dense_scores_shape, (std::vector<std::size_t>{std::size_t(dense.cells_h) * 8, std::size_t(dense.cells_w) * 8}));
+  ASSERT_EQ(g.dense_scores_shape,
+            (std::vector<std::size_t>{std::size_t(dense.cells_h) * 8, std::size_t(dense.cells_w) * 8}));
   float max_err = 0;
   for (std::size_t i = 0; i < g.dense_scores.size(); ++i)
     max_err = std::max(max_err, std::abs(g.dense_scores[i] - dense.scores[i]));
@@ -158,8 +159,8 @@ TEST_P(SuperPointGolden, MatchesPyTorchReference) {
     if (j < 0) continue;
     ++found;
     const Eigen::Vector2f& at = result.keypoints[j];
-    const auto reference = features::reference::sample_descriptor(g.dense_descriptors, dense.cells_h, dense.cells_w,
-                                                                  at.x(), at.y());
+    const auto reference =
+        features::reference::sample_descriptor(g.dense_descriptors, dense.cells_h, dense.cells_w, at.x(), at.y());
     if (at == g.keypoints[i]) {
       ASSERT_GE(cosine(reference.data(), &g.descriptors[i * 256], 256), 0.99999f) << "sampler differs from PyTorch's";
     }

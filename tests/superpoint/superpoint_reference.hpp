@@ -32,7 +32,8 @@ inline std::vector<float> unpack_o4(const io::ModelPack& pack, const std::string
   for (int oc = 0; oc < o; ++oc)
     for (int ic = 0; ic < i; ++ic)
       for (int t = 0; t < k * k; ++t)
-        oihw[(std::size_t(oc) * i + ic) * k * k + t] = stored[((std::size_t(oc / 4) * i + ic) * k * k + t) * 4 + oc % 4];
+        oihw[(std::size_t(oc) * i + ic) * k * k + t] =
+            stored[((std::size_t(oc / 4) * i + ic) * k * k + t) * 4 + oc % 4];
   return oihw;
 }
 
@@ -92,7 +93,8 @@ inline Dense forward(const io::ModelPack& pack, const cv::Mat& image, int dim = 
       for (int k = 0; k < 65; ++k) top = std::max<double>(top, logits.at(k, y, c));
       for (int k = 0; k < 65; ++k) sum += std::exp(logits.at(k, y, c) - top);
       for (int k = 0; k < 64; ++k)
-        d.scores[(std::size_t(y) * 8 + k / 8) * x.w * 8 + c * 8 + k % 8] = float(std::exp(logits.at(k, y, c) - top) / sum);
+        d.scores[(std::size_t(y) * 8 + k / 8) * x.w * 8 + c * 8 + k % 8] =
+            float(std::exp(logits.at(k, y, c) - top) / sum);
       for (int k = 0; k < dim; ++k) sq += double(desc.at(k, y, c)) * desc.at(k, y, c);
       const double inv = 1.0 / std::max(std::sqrt(sq), 1e-12);
       for (int k = 0; k < dim; ++k) d.descriptors[(std::size_t(k) * x.h + y) * x.w + c] = float(desc.at(k, y, c) * inv);
@@ -107,7 +109,8 @@ inline std::vector<float> max_pool(const std::vector<float>& s, int h, int w, in
     for (int x = 0; x < w; ++x) {
       float m = -std::numeric_limits<float>::infinity();
       for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy)
-        for (int xx = std::max(0, x - r); xx <= std::min(w - 1, x + r); ++xx) m = std::max(m, s[std::size_t(yy) * w + xx]);
+        for (int xx = std::max(0, x - r); xx <= std::min(w - 1, x + r); ++xx)
+          m = std::max(m, s[std::size_t(yy) * w + xx]);
       out[std::size_t(y) * w + x] = m;
     }
   return out;
@@ -163,7 +166,8 @@ inline std::vector<float> sample_descriptor(const std::vector<float>& dense, int
 }
 
 // Threshold, border removal, top-k (ties: lower pixel index first), bilinear descriptor sampling + L2 norm.
-inline Keypoints postprocess(const Dense& d, float threshold, int radius, int border, int max_keypoints, int dim = 256) {
+inline Keypoints postprocess(const Dense& d, float threshold, int radius, int border, int max_keypoints,
+                             int dim = 256) {
   const int h = d.cells_h * 8, w = d.cells_w * 8;
   const auto nms = simple_nms(d.scores, h, w, radius);
   std::vector<int> idx;

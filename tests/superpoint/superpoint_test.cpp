@@ -87,7 +87,7 @@ void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams:
   params.winograd = winograd;
   params.winograd_tile = tile;
   SuperPoint sp(gpu(), pack, params);
-  sp.set_profiling(true);  // the labels of the timed commands say which path ran
+  sp.set_profiling(true);                                // the labels of the timed commands say which path ran
   const cv::Mat image = random_image(width, height, 3);  // 53 x 42 -> 6 x 5 cells, dense 48 x 40
   SuperPointDense dense;
   sp.detect(image, &dense);
@@ -104,13 +104,13 @@ void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams:
     EXPECT_EQ(ran_winograd, winograd_expected);
     if (winograd_expected) {
       const std::string tile_label = fmt::format("winograd f{}3", std::uint32_t(tile));
-      EXPECT_TRUE(std::any_of(timings.begin(), timings.end(), [&](const rt::CommandTiming& t) {
-        return t.label.find(tile_label) != std::string::npos;
-      })) << "no command labelled '" << tile_label << "'";
+      EXPECT_TRUE(
+          std::any_of(timings.begin(), timings.end(),
+                      [&](const rt::CommandTiming& t) { return t.label.find(tile_label) != std::string::npos; }))
+          << "no command labelled '" << tile_label << "'";
     }
-    const bool ran_gemm = std::any_of(timings.begin(), timings.end(), [](const rt::CommandTiming& t) {
-      return t.label == "convDb gemm";
-    });
+    const bool ran_gemm = std::any_of(timings.begin(), timings.end(),
+                                      [](const rt::CommandTiming& t) { return t.label == "convDb gemm"; });
     const std::size_t cells = std::size_t(width / 8) * (height / 8);
     // Not where the weights are stored wider than the activations (fp16s): the GEMM reads both in one format.
     const bool same_storage = rt::conv_weight_precision(GetParam()) == GetParam();
@@ -123,7 +123,8 @@ void SuperPointRandom::check_dense_outputs(bool tiled_kernels, SuperPointParams:
   ASSERT_EQ(dense.scores.size(), ref.scores.size());
   const Tolerance tol = tolerance(GetParam());
   float max_err = 0;
-  for (std::size_t i = 0; i < ref.scores.size(); ++i) max_err = std::max(max_err, std::abs(ref.scores[i] - dense.scores[i]));
+  for (std::size_t i = 0; i < ref.scores.size(); ++i)
+    max_err = std::max(max_err, std::abs(ref.scores[i] - dense.scores[i]));
   EXPECT_LE(max_err, tol.score_abs);
   const std::size_t cells = std::size_t(dense.cells_h) * dense.cells_w;
   for (std::size_t cell = 0; cell < cells; ++cell) {
@@ -147,8 +148,8 @@ TEST_P(SuperPointRandom, PostProcessingMatchesReference) {
     float threshold;
     int radius, border, max_keypoints;
   };
-  const Setting settings[] = {{0.005f, 4, 4, 400}, {0.02f, 2, 7, 25}, {0.0f, 1, 0, -1}, {0.002f, 5, 1, 200},
-                              {0.0f, 9, 0, -1}};
+  const Setting settings[] = {
+      {0.005f, 4, 4, 400}, {0.02f, 2, 7, 25}, {0.0f, 1, 0, -1}, {0.002f, 5, 1, 200}, {0.0f, 9, 0, -1}};
   for (const bool tiled : {true, false}) {
     for (const Setting s : settings) {
       SuperPointParams params{s.threshold, s.radius, s.border, s.max_keypoints, GetParam()};

@@ -97,10 +97,10 @@ TEST(FrameGain, SpotlightSweepsAcrossTheImage) {
   const FrameGain start = frame_gain(events, 0, 0, 200, 100);
   const FrameGain end = frame_gain(events, 100, 0, 200, 100);
   ASSERT_EQ(start.beams.size(), 1u);
-  EXPECT_NEAR(start.beams[0].cx, 30.0, 1e-9);   // 15% of the width
-  EXPECT_NEAR(end.beams[0].cx, 170.0, 1e-9);    // 85%
+  EXPECT_NEAR(start.beams[0].cx, 30.0, 1e-9);  // 15% of the width
+  EXPECT_NEAR(end.beams[0].cx, 170.0, 1e-9);   // 85%
   EXPECT_NEAR(start.at(start.beams[0].cx, start.beams[0].cy), 2.0, 1e-12);
-  EXPECT_NEAR(start.at(199, 0), 0.25, 0.01);    // far from the beam: ambient
+  EXPECT_NEAR(start.at(199, 0), 0.25, 0.01);  // far from the beam: ambient
 }
 
 TEST(ApplyGain, MatchesThePointwiseGainField) {

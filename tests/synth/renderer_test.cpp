@@ -15,7 +15,8 @@ using testing::tiny_config;
 
 // One scene shared by the tests of this file (generating it is the slow part).
 std::shared_ptr<const Scene> tiny_scene() {
-  static const auto scene = std::make_shared<const Scene>(generate_indoor_scene(tiny_config().scene, tiny_config().seed));
+  static const auto scene =
+      std::make_shared<const Scene>(generate_indoor_scene(tiny_config().scene, tiny_config().seed));
   return scene;
 }
 
@@ -61,7 +62,7 @@ TEST(StereoRenderer, ImagesAreTexturedAndWellExposed) {
   cv::meanStdDev(f.left, mean, stddev);
   EXPECT_GT(mean[0], 60.0);
   EXPECT_LT(mean[0], 190.0);
-  EXPECT_GT(stddev[0], 15.0);  // structure, not a flat wall
+  EXPECT_GT(stddev[0], 15.0);                                       // structure, not a flat wall
   EXPECT_LT(cv::countNonZero(f.left == 255), f.left.total() / 50);  // no clipping without events
 }
 

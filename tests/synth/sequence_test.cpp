@@ -4,9 +4,9 @@
 #include <set>
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <yaml-cpp/yaml.h>
 
 #include "common/test_support.hpp"
 #include "io/config.hpp"
@@ -65,7 +65,9 @@ TEST(SequenceWriter, WritesTheAslLayout) {
   const auto gt = lines_of(dir / "mav0/state_groundtruth_estimate0/data.csv");
   ASSERT_EQ(gt.size(), 5u);
   EXPECT_EQ(gt[0].rfind("#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], "
-                        "q_RS_z [], v_RS_R_x [m s^-1]", 0), 0u);
+                        "q_RS_z [], v_RS_R_x [m s^-1]",
+                        0),
+            0u);
   EXPECT_EQ(std::count(gt[1].begin(), gt[1].end(), ','), 16);
   EXPECT_EQ(lines_of(dir / "groundtruth_tum.txt").size(), 5u);  // comment + 4 poses
 
@@ -104,7 +106,9 @@ TEST(SynthPreset, DefaultTrajectoryStaysInsideLookingAtNearbySurfaces) {
   const SmoothTrajectory trajectory(config.trajectory, config.seed);
   double path = 0;
   for (int k = 1; k < config.num_frames; ++k)
-    path += (trajectory.pose(k / config.rate_hz).translation() - trajectory.pose((k - 1) / config.rate_hz).translation()).norm();
+    path +=
+        (trajectory.pose(k / config.rate_hz).translation() - trajectory.pose((k - 1) / config.rate_hz).translation())
+            .norm();
   const double duration = (config.num_frames - 1) / config.rate_hz;
   EXPECT_NEAR(path / duration, 0.5, 0.05);
 
@@ -142,7 +146,8 @@ TEST(StereoRenderer, RightImageIsTheLeftShiftedByTheDisparity) {
     cv::Mat map_x(depth.size(), CV_32F), map_y(depth.size(), CV_32F);
     for (int y = 0; y < depth.rows; ++y)
       for (int x = 0; x < depth.cols; ++x) {
-        map_x.at<float>(y, x) = static_cast<float>(x - sign * config.rig.fx * config.rig.baseline / depth.at<float>(y, x));
+        map_x.at<float>(y, x) =
+            static_cast<float>(x - sign * config.rig.fx * config.rig.baseline / depth.at<float>(y, x));
         map_y.at<float>(y, x) = static_cast<float>(y);
       }
     cv::Mat warped;

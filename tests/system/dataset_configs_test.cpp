@@ -5,8 +5,8 @@
 // OIVIO's EuRoC's T_BS) moves R1 and R2 by a degree; the tolerances are a few times the files' rounding.
 #include <filesystem>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "common/test_support.hpp"
 #include "features/lines/line_params.hpp"

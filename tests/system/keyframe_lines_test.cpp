@@ -36,9 +36,11 @@ struct TwoKeyframes {
   std::optional<PlueckerLine> stereo(int i) const { return geometry::transform_line(T_current.inverse(), truth(i)); }
 
   const geometry::PinholeCamera camera = test::test_stereo_camera().camera;
-  const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments = {
-      {{-1.0, -0.5, 4.0}, {-0.6, 0.6, 4.5}}, {{0.2, -0.8, 3.0}, {0.5, 0.7, 3.5}}, {{1.0, -0.3, 5.0}, {1.2, 0.8, 5.5}},
-      {{-0.3, 0.2, 2.5}, {0.1, 0.9, 2.8}},   {{0.6, -0.9, 6.0}, {0.9, -0.2, 6.5}}};
+  const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments = {{{-1.0, -0.5, 4.0}, {-0.6, 0.6, 4.5}},
+                                                                             {{0.2, -0.8, 3.0}, {0.5, 0.7, 3.5}},
+                                                                             {{1.0, -0.3, 5.0}, {1.2, 0.8, 5.5}},
+                                                                             {{-0.3, 0.2, 2.5}, {0.1, 0.9, 2.8}},
+                                                                             {{0.6, -0.9, 6.0}, {0.9, -0.2, 6.5}}};
   const Eigen::Isometry3d T_reference = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_current = Eigen::Isometry3d::Identity();
   map::Map map;

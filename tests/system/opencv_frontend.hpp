@@ -11,15 +11,15 @@
 namespace vkvo::test {
 
 struct OpencvFrontendParams {
-  int max_keypoints = 600;    // strongest responses kept, after spreading over a grid
-  int grid_cells_x = 8;       // keypoints are spread over grid_cells_x x grid_cells_y cells (same quota each)
+  int max_keypoints = 600;  // strongest responses kept, after spreading over a grid
+  int grid_cells_x = 8;     // keypoints are spread over grid_cells_x x grid_cells_y cells (same quota each)
   int grid_cells_y = 6;
-  int fast_threshold = 12;    // FAST intensity threshold (ORB's default is 20; low-contrast scenes need less)
+  int fast_threshold = 12;  // FAST intensity threshold (ORB's default is 20; low-contrast scenes need less)
   int pyramid_levels = 4;
-  bool subpixel = true;       // refine level-0 corners with cv::cornerSubPix (stereo depth needs sub-pixel x)
-  int patch_size = 23;        // ORB patch; also the border that stays free of keypoints
-  int max_hamming = 64;       // of 256 bits: matches farther apart are rejected
-  double ratio = 0.9;         // best / second-best Hamming distance; 1 disables the ratio test
+  bool subpixel = true;  // refine level-0 corners with cv::cornerSubPix (stereo depth needs sub-pixel x)
+  int patch_size = 23;   // ORB patch; also the border that stays free of keypoints
+  int max_hamming = 64;  // of 256 bits: matches farther apart are rejected
+  double ratio = 0.9;    // best / second-best Hamming distance; 1 disables the ratio test
 };
 
 class OpencvFrontend final : public system::PointFrontend {

@@ -59,9 +59,11 @@ GapErrors gap_errors(const io::Trajectory& estimate, const io::Trajectory& groun
   for (std::size_t i = before + 1; i < after; ++i) {
     const double fraction = (poses.t[i] - poses.t[before]) / (poses.t[after] - poses.t[before]);
     const Eigen::Isometry3d straight = interpolate_pose(poses.estimate[before], poses.estimate[after], fraction);
-    written.push_back((alignment.apply(Eigen::Vector3d(poses.estimate[i].translation())) -
-                       poses.groundtruth[i].translation()).norm());
-    linear.push_back((alignment.apply(Eigen::Vector3d(straight.translation())) - poses.groundtruth[i].translation()).norm());
+    written.push_back(
+        (alignment.apply(Eigen::Vector3d(poses.estimate[i].translation())) - poses.groundtruth[i].translation())
+            .norm());
+    linear.push_back(
+        (alignment.apply(Eigen::Vector3d(straight.translation())) - poses.groundtruth[i].translation()).norm());
   }
   return {eval::compute_stats(written).rmse, eval::compute_stats(linear).rmse};
 }
@@ -99,15 +101,17 @@ void expect_one_map_through_the_dark(const LightsOff& runs, std::size_t frames, 
   const test::VoRun& dark = runs.dark;
   const double clean_outside = ate_outside(runs.clean.trajectory, runs.clean.groundtruth, runs.t0, runs.t1);
   const double dark_outside = ate_outside(dark.trajectory, dark.groundtruth, runs.t0, runs.t1);
-  const double before_outside = ate_outside(runs.dark_before.trajectory, runs.dark_before.groundtruth, runs.t0, runs.t1);
+  const double before_outside =
+      ate_outside(runs.dark_before.trajectory, runs.dark_before.groundtruth, runs.t0, runs.t1);
   const GapErrors gap = gap_errors(dark.trajectory, dark.groundtruth, runs.t0, runs.t1);
   const GapErrors gap_before = gap_errors(runs.dark_before.trajectory, runs.dark_before.groundtruth, runs.t0, runs.t1);
-  spdlog::info("lights off {}-{}: ATE outside the gap clean {:.4f} m | relocalised {:.4f} m ({:.2f}x) | without "
-               "relocalisation {:.4f} m ({:.2f}x, {} segments); gap RMSE {:.4f} m (straight line between the same ends "
-               "{:.4f} m; before {:.4f} m); {} relocalisations, {} merges, segments {}",
-               span.first, span.last, clean_outside, dark_outside, dark_outside / clean_outside, before_outside,
-               before_outside / clean_outside, runs.dark_before.result.segments, gap.written_rmse, gap.linear_rmse,
-               gap_before.linear_rmse, dark.result.relocalisations, dark.result.merges, dark.result.segments);
+  spdlog::info(
+      "lights off {}-{}: ATE outside the gap clean {:.4f} m | relocalised {:.4f} m ({:.2f}x) | without "
+      "relocalisation {:.4f} m ({:.2f}x, {} segments); gap RMSE {:.4f} m (straight line between the same ends "
+      "{:.4f} m; before {:.4f} m); {} relocalisations, {} merges, segments {}",
+      span.first, span.last, clean_outside, dark_outside, dark_outside / clean_outside, before_outside,
+      before_outside / clean_outside, runs.dark_before.result.segments, gap.written_rmse, gap.linear_rmse,
+      gap_before.linear_rmse, dark.result.relocalisations, dark.result.merges, dark.result.segments);
 
   EXPECT_EQ(dark.result.frames, frames);
   EXPECT_EQ(dark.trajectory.size(), frames) << "every frame has a pose";
@@ -156,11 +160,12 @@ TEST(RelocalisationData, EurocKidnapIsRelocalisedIntoTheSameMap) {
   range.skip = {{50, 79}};
   const test::VoRun kidnapped = superpoint.run(dataset, config, dir / "kidnapped", range);
   const test::VoRun before = superpoint.run(dataset, without_relocalisation(config), dir / "before", range);
-  spdlog::info("kidnap 50-79: ATE clean {:.4f} m | relocalised {:.4f} m, {} relocalisations, {} segments | without "
-               "relocalisation {:.4f} m, {} segments",
-               clean.evaluation.ate.translation_m.rmse, kidnapped.evaluation.ate.translation_m.rmse,
-               kidnapped.result.relocalisations, kidnapped.result.segments, before.evaluation.ate.translation_m.rmse,
-               before.result.segments);
+  spdlog::info(
+      "kidnap 50-79: ATE clean {:.4f} m | relocalised {:.4f} m, {} relocalisations, {} segments | without "
+      "relocalisation {:.4f} m, {} segments",
+      clean.evaluation.ate.translation_m.rmse, kidnapped.evaluation.ate.translation_m.rmse,
+      kidnapped.result.relocalisations, kidnapped.result.segments, before.evaluation.ate.translation_m.rmse,
+      before.result.segments);
   EXPECT_EQ(kidnapped.result.frames, 100u);
   EXPECT_EQ(kidnapped.result.segments, 1);
   EXPECT_GE(kidnapped.result.relocalisations, 1);

@@ -33,13 +33,13 @@ constexpr double kPointTolerance = 1e-4;  // [m]
 TEST(StereoKeyframe, StereoPointsTriangulateTheMatchesThatPassTheGates) {
   const geometry::StereoCamera stereo = test::test_stereo_camera();
   StereoKeypoints kp;
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(-0.8, -0.4, 2.0), Eigen::Vector3d(0.3, 0.2, 4.5),
-                                   Eigen::Vector3d(1.1, 0.6, 6.0), Eigen::Vector3d(0.0, 0.0, 3.0),
-                                   Eigen::Vector3d(-0.2, 0.5, 2.5)})
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(-0.8, -0.4, 2.0), Eigen::Vector3d(0.3, 0.2, 4.5), Eigen::Vector3d(1.1, 0.6, 6.0),
+        Eigen::Vector3d(0.0, 0.0, 3.0), Eigen::Vector3d(-0.2, 0.5, 2.5)})
     kp.add(stereo, p);
-  kp.right.keypoints[2].y() += 3.0f;  // 3 px off the row: beyond max_y_diff = 2
+  kp.right.keypoints[2].y() += 3.0f;                            // 3 px off the row: beyond max_y_diff = 2
   kp.right.keypoints[3].x() = kp.left.keypoints[3].x() + 1.0f;  // negative disparity
-  kp.matches.matches0[4] = -1;        // unmatched
+  kp.matches.matches0[4] = -1;                                  // unmatched
   const geometry::TriangulationParams params;
 
   const StereoPoints out = triangulate_stereo_points(stereo, kp.left, kp.right, kp.matches, params);
@@ -114,9 +114,9 @@ TEST(StereoKeyframe, StereoLinesFromPlanesOrFromTwoKnownPoints) {
   ASSERT_EQ(stereo_points.count, 4 * kPointsPerLine + 1);
   const auto known = known_points_in_camera(stereo_points, {}, Eigen::Isometry3d::Identity());
 
-  const StereoLines out = triangulate_stereo_lines(stereo, {left_lines, left_association},
-                                                   {right_lines, right_association},
-                                                   {kp.left.keypoints, kp.matches.matches0, known}, {}, params);
+  const StereoLines out =
+      triangulate_stereo_lines(stereo, {left_lines, left_association}, {right_lines, right_association},
+                               {kp.left.keypoints, kp.matches.matches0, known}, {}, params);
   ASSERT_EQ(out.lines.size(), segments.size());
   ASSERT_EQ(out.right.size(), segments.size());
   EXPECT_EQ(out.planes, 2);

@@ -99,7 +99,8 @@ TEST(TrajectoryRecord, ClosedGapFollowsTheMotionAtBothEnds) {
   TrajectoryRecord record(out.files, 200);
   for (int i = 0; i < 20; ++i) {
     const bool tracked = i < 5 || i >= 15;
-    record.add(frame(i, tracked ? circle.at(i * kStep) : pose(3.0, 100.0 + i), tracked ? PoseState::tracked : PoseState::lost));
+    record.add(frame(i, tracked ? circle.at(i * kStep) : pose(3.0, 100.0 + i),
+                     tracked ? PoseState::tracked : PoseState::lost));
     if (i == 14) {
       EXPECT_EQ(record.frames_bridged(), 0);  // nothing to interpolate towards yet
     }

@@ -41,16 +41,16 @@ TEST(VoConfig, InitialisationThresholdsScaleDownWithTheImageArea) {
 TEST(VoConfig, KeysNoModuleReadsAreNamedWithTheirLines) {
   const auto config = io::Config::from_string(
       "point_detector:\n"
-      "  max_keypoint: 500\n"                                            // line 2
+      "  max_keypoint: 500\n"  // line 2
       "lines:\n"
       "  detector:\n"
-      "    fld: {length_threshold: 10, canny_treshold1: 50}\n"          // line 5
+      "    fld: {length_threshold: 10, canny_treshold1: 50}\n"  // line 5
       "    merge_stages:\n"
-      "      - {max_angle: 0.05, max_gap: 15}\n"                       // line 7
+      "      - {max_angle: 0.05, max_gap: 15}\n"  // line 7
       "camera:\n"
       "  left: {fx: 500, T_body_cam: [1, 0, 0, 0,  0, 1, 0, 0,  0, 0, 1, 0]}\n"  // line 9
       "tracker:\n"
-      "  min_num_match: 20\n",                                            // line 11
+      "  min_num_match: 20\n",  // line 11
       "typos.yaml");
   const std::string message = test::error_of([&] { load_vo_config(config); });
   EXPECT_NE(message.find("typos.yaml"), std::string::npos) << message;
@@ -66,11 +66,13 @@ TEST(VoConfig, KeysNoModuleReadsAreNamedWithTheirLines) {
 // Every section is parsed at load time, those read later by the feature stage or the dataset reader included, so a
 // bad value fails before any work starts and a component's keys are checked even where a run does not use it.
 TEST(VoConfig, EverySectionIsCheckedAtLoad) {
-  EXPECT_NE(test::error_of([] { load_vo_config(io::Config::from_string("point_detector: {precision: fp64}\n")); })
-                .find("precision"),
+  EXPECT_NE(test::error_of([] {
+              load_vo_config(io::Config::from_string("point_detector: {precision: fp64}\n"));
+            }).find("precision"),
             std::string::npos);
-  EXPECT_NE(test::error_of([] { load_vo_config(io::Config::from_string("point_matcher: {sinkhorn_iters: 50}\n")); })
-                .find("point_matcher.sinkhorn_iters"),
+  EXPECT_NE(test::error_of([] {
+              load_vo_config(io::Config::from_string("point_matcher: {sinkhorn_iters: 50}\n"));
+            }).find("point_matcher.sinkhorn_iters"),
             std::string::npos);
   EXPECT_NE(test::error_of([] { load_vo_config(io::Config::from_string("dataset: {stride: 0}\n")); }).find("stride"),
             std::string::npos);
@@ -96,8 +98,8 @@ TEST(VoConfig, CameraSectionAloneGivesTheCalibration) {
   EXPECT_NEAR(c.T_left_right().translation().x(), 0.12, 1e-12);
 
   const std::string missing = test::error_of([] {
-    config_calibration(load_vo_config(io::Config::from_string("camera: {width: 640, height: 480, fx: 400}\n",
-                                                              "robot.yaml")));
+    config_calibration(
+        load_vo_config(io::Config::from_string("camera: {width: 640, height: 480, fx: 400}\n", "robot.yaml")));
   });
   EXPECT_NE(missing.find("robot.yaml (camera section): left camera: field 'fy'"), std::string::npos) << missing;
 }

@@ -35,11 +35,12 @@ VoRun run_vo_on(const std::filesystem::path& dataset_dir, const system::VoConfig
   if (!groundtruth) throw std::runtime_error("dataset has no ground truth: " + dataset_dir.string());
   run.groundtruth = std::move(groundtruth->poses);
   run.evaluation = eval::evaluate(run.trajectory, run.groundtruth);
-  spdlog::info("VO on {}: {} frames, {} keyframes, {} losses, {} segments, ATE RMSE {:.4f} m (max {:.4f}), "
-               "{:.2f} s wall ({:.1f} frames/s)",
-               dataset_dir.string(), run.result.frames, run.result.keyframes, run.result.tracking_losses,
-               run.result.segments, run.evaluation.ate.translation_m.rmse, run.evaluation.ate.translation_m.max,
-               run.result.wall_seconds, double(run.result.frames) / std::max(1e-9, run.result.wall_seconds));
+  spdlog::info(
+      "VO on {}: {} frames, {} keyframes, {} losses, {} segments, ATE RMSE {:.4f} m (max {:.4f}), "
+      "{:.2f} s wall ({:.1f} frames/s)",
+      dataset_dir.string(), run.result.frames, run.result.keyframes, run.result.tracking_losses, run.result.segments,
+      run.evaluation.ate.translation_m.rmse, run.evaluation.ate.translation_m.max, run.result.wall_seconds,
+      double(run.result.frames) / std::max(1e-9, run.result.wall_seconds));
   return run;
 }
 

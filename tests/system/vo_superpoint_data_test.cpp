@@ -70,11 +70,12 @@ void expect_recovered(const test::VoRun& run, std::size_t frames, const Photomet
 
 // ATE of the stressed run, all frames and the tracked ones, next to the clean run's, in the test log.
 void log_comparison(const test::VoRun& clean, const test::VoRun& stressed) {
-  spdlog::info("ATE RMSE clean {:.4f} m | stressed {:.4f} m, over its tracked frames {:.4f} m | untracked {} | "
-               "losses {} | segments {}",
-               clean.evaluation.ate.translation_m.rmse, stressed.evaluation.ate.translation_m.rmse,
-               test::evaluate_tracked_frames(stressed).ate.translation_m.rmse, stressed.result.untracked_frames.size(),
-               stressed.result.tracking_losses, stressed.result.segments);
+  spdlog::info(
+      "ATE RMSE clean {:.4f} m | stressed {:.4f} m, over its tracked frames {:.4f} m | untracked {} | "
+      "losses {} | segments {}",
+      clean.evaluation.ate.translation_m.rmse, stressed.evaluation.ate.translation_m.rmse,
+      test::evaluate_tracked_frames(stressed).ate.translation_m.rmse, stressed.result.untracked_frames.size(),
+      stressed.result.tracking_losses, stressed.result.segments);
 }
 
 struct CleanAndStressed {

@@ -16,9 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-VoConfig small_preset_config() {
-  return load_vo_config(test::source_dir() / "config" / "euroc.yaml");
-}
+VoConfig small_preset_config() { return load_vo_config(test::source_dir() / "config" / "euroc.yaml"); }
 
 synth::SynthConfig small_preset(int frames) {
   auto synth = synth::synth_preset("small");
@@ -65,12 +63,12 @@ TEST(VoSynth, RunsFromImageNamesAndTheConfigsCameras) {
   }
   VoConfig config = small_preset_config();
   const auto& rig = synth.rig;
-  config.dataset.camera_overrides = YAML::Load(fmt::format(
-      "{{width: {}, height: {}, fx: {}, fy: {}, cx: {}, cy: {},"
-      " left: {{distortion_model: radtan, distortion_coeffs: [0, 0, 0, 0]}},"
-      " right: {{distortion_model: radtan, distortion_coeffs: [0, 0, 0, 0],"
-      " T_body_camera: [1, 0, 0, {},  0, 1, 0, 0,  0, 0, 1, 0]}}}}",
-      rig.width, rig.height, rig.fx, rig.fy, rig.cx, rig.cy, rig.baseline));
+  config.dataset.camera_overrides =
+      YAML::Load(fmt::format("{{width: {}, height: {}, fx: {}, fy: {}, cx: {}, cy: {},"
+                             " left: {{distortion_model: radtan, distortion_coeffs: [0, 0, 0, 0]}},"
+                             " right: {{distortion_model: radtan, distortion_coeffs: [0, 0, 0, 0],"
+                             " T_body_camera: [1, 0, 0, {},  0, 1, 0, 0,  0, 0, 1, 0]}}}}",
+                             rig.width, rig.height, rig.fx, rig.fy, rig.cx, rig.cy, rig.baseline));
   const auto bare = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "out1");
 
   test::expect_every_frame_tracked(bare, static_cast<std::size_t>(synth.num_frames));

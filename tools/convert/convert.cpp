@@ -16,8 +16,10 @@ io::NetworkKind detect_network(const OnnxGraph& graph) {
   }
   if (conv2d > 0 && conv1d == 0) return io::NetworkKind::superpoint;
   if (conv1d > 0 && conv2d == 0) return io::NetworkKind::superglue;
-  graph.fail(fmt::format("cannot tell the network: {} 2-D and {} 1-D convolutions (SuperPoint has only 2-D, "
-                         "SuperGlue only 1-D ones)", conv2d, conv1d));
+  graph.fail(
+      fmt::format("cannot tell the network: {} 2-D and {} 1-D convolutions (SuperPoint has only 2-D, "
+                  "SuperGlue only 1-D ones)",
+                  conv2d, conv1d));
 }
 
 io::ModelPackWriter convert_graph(const OnnxGraph& graph, std::optional<io::NetworkKind> kind) {

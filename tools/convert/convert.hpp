@@ -17,8 +17,8 @@ io::ModelPackWriter convert_graph(const OnnxGraph& graph, std::optional<io::Netw
 
 struct ConvertSummary {
   io::NetworkKind kind;
-  std::size_t tensors = 0;      // table entries (fp32 and fp16 copies counted separately)
-  std::uintmax_t bytes = 0;     // pack file size
+  std::size_t tensors = 0;   // table entries (fp32 and fp16 copies counted separately)
+  std::uintmax_t bytes = 0;  // pack file size
 };
 // Reads `onnx`, writes the pack to `out`, and reads it back to verify it.
 ConvertSummary convert_file(const std::filesystem::path& onnx, const std::filesystem::path& out,

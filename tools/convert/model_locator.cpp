@@ -86,8 +86,9 @@ VoModels load_vo_models(const fs::path& superpoint, const fs::path& superglue, b
   models.superpoint_file = std::move(*superpoint_file);
   if (!use_superglue) return models;
   if (superglue.empty()) {
-    spdlog::warn("no SuperGlue pack configured (models.superglue / --superglue): matching with the "
-                 "mutual-nearest-neighbour matcher");
+    spdlog::warn(
+        "no SuperGlue pack configured (models.superglue / --superglue): matching with the "
+        "mutual-nearest-neighbour matcher");
     return models;
   }
   models.superglue_file = locate_model("superglue", superglue, search);  // an explicit path: found or thrown

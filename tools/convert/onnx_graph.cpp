@@ -33,7 +33,8 @@ float bfloat16_to_float(std::uint32_t bits) { return std::bit_cast<float>(bits <
 
 }  // namespace
 
-OnnxGraph::OnnxGraph(onnx::ModelProto model, std::string source) : model_(std::move(model)), source_(std::move(source)) {
+OnnxGraph::OnnxGraph(onnx::ModelProto model, std::string source)
+    : model_(std::move(model)), source_(std::move(source)) {
   const auto& g = model_.graph();
   for (const auto& t : g.initializer()) initializers_[t.name()] = &t;
   for (int i = 0; i < g.node_size(); ++i) {
@@ -123,9 +124,10 @@ std::optional<FloatTensor> OnnxGraph::constant_floats(std::string_view value) co
     return std::nullopt;
   }
   if (t->data_location() == onnx::TensorProto::EXTERNAL)
-    throw std::runtime_error(fmt::format("ONNX '{}': tensor '{}' keeps its data in an external file, which is not "
-                                         "supported; export with the weights embedded",
-                                         source_, t->name()));
+    throw std::runtime_error(
+        fmt::format("ONNX '{}': tensor '{}' keeps its data in an external file, which is not "
+                    "supported; export with the weights embedded",
+                    source_, t->name()));
   FloatTensor out;
   out.dims.assign(t->dims().begin(), t->dims().end());
   const bool raw = !t->raw_data().empty();
@@ -134,7 +136,8 @@ std::optional<FloatTensor> OnnxGraph::constant_floats(std::string_view value) co
       out.values = raw ? raw_elements<float>(*t) : std::vector<float>(t->float_data().begin(), t->float_data().end());
       break;
     case onnx::TensorProto::DOUBLE: {
-      const auto d = raw ? raw_elements<double>(*t) : std::vector<double>(t->double_data().begin(), t->double_data().end());
+      const auto d =
+          raw ? raw_elements<double>(*t) : std::vector<double>(t->double_data().begin(), t->double_data().end());
       out.values.assign(d.begin(), d.end());
       break;
     }
@@ -147,11 +150,11 @@ std::optional<FloatTensor> OnnxGraph::constant_floats(std::string_view value) co
         for (const auto v : t->int32_data()) bits.push_back(static_cast<std::uint16_t>(v));
       }
       for (const auto b : bits)
-        out.values.push_back(t->data_type() == onnx::TensorProto::FLOAT16 ? rt::half_to_float(b) : bfloat16_to_float(b));
+        out.values.push_back(t->data_type() == onnx::TensorProto::FLOAT16 ? rt::half_to_float(b)
+                                                                          : bfloat16_to_float(b));
       break;
     }
-    default:
-      return std::nullopt;  // not a float tensor
+    default: return std::nullopt;  // not a float tensor
   }
   if (out.values.size() != element_count(*t))
     throw std::runtime_error(fmt::format("ONNX '{}': tensor '{}' holds {} values, its shape needs {}", source_,
@@ -250,7 +253,8 @@ ConvWeights read_conv(const OnnxGraph& graph, const onnx::NodeProto& node) {
   if (node.input_size() < 2) graph.fail(node, "Conv without a weight input");
   auto weight = graph.constant_floats(node.input(1));
   if (!weight) graph.fail(node, fmt::format("weight '{}' is not a constant float tensor", node.input(1)));
-  if (weight->dims.size() < 3) graph.fail(node, fmt::format("weight has rank {}, expected 3 or 4", weight->dims.size()));
+  if (weight->dims.size() < 3)
+    graph.fail(node, fmt::format("weight has rank {}, expected 3 or 4", weight->dims.size()));
 
   const std::size_t spatial = weight->dims.size() - 2;
   const std::vector<std::int64_t> ones(spatial, 1);

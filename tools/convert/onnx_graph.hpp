@@ -82,7 +82,7 @@ struct ConvWeights {
   const onnx::NodeProto* node = nullptr;
   std::vector<std::int64_t> dims;  // [O, I, K...]
   std::vector<float> weight;
-  std::vector<float> bias;         // [O]
+  std::vector<float> bias;  // [O]
   std::int64_t out_channels() const { return dims[0]; }
   std::int64_t in_channels() const { return dims[1]; }
 };

@@ -193,8 +193,10 @@ const onnx::NodeProto& find_final_projection(const OnnxGraph& graph, const std::
       if (user->op_type() == "Einsum") return *conv;
   }
   const onnx::NodeProto* producer = graph.producer(state);
-  if (producer) graph.fail(*producer, "its output is followed neither by another attentional layer nor by the "
-                                      "final projection feeding the score Einsum");
+  if (producer)
+    graph.fail(*producer,
+               "its output is followed neither by another attentional layer nor by the "
+               "final projection feeding the score Einsum");
   graph.fail(fmt::format("value '{}' is followed neither by an attentional layer nor by the final projection", state));
 }
 
@@ -224,8 +226,10 @@ double find_bin_score(const OnnxGraph& graph, const onnx::NodeProto& score_einsu
 std::int64_t count_sinkhorn_iterations(const OnnxGraph& graph) {
   const auto reductions = graph.nodes_of_type("ReduceLogSumExp").size();
   if (reductions == 0 || reductions % 2 != 0) {
-    spdlog::warn("ONNX '{}': Sinkhorn iterations not unrolled as pairs of ReduceLogSumExp ({} found); recording "
-                 "SuperGlue's default {}", graph.source(), reductions, kDefaultSinkhornIterations);
+    spdlog::warn(
+        "ONNX '{}': Sinkhorn iterations not unrolled as pairs of ReduceLogSumExp ({} found); recording "
+        "SuperGlue's default {}",
+        graph.source(), reductions, kDefaultSinkhornIterations);
     return kDefaultSinkhornIterations;
   }
   return static_cast<std::int64_t>(reductions / 2);
@@ -279,7 +283,8 @@ io::ModelPackWriter convert_superglue(const OnnxGraph& graph) {
     states = {first.output, second.output};
     layers.push_back(std::move(first));
   }
-  if (layers.empty()) graph.fail(fmt::format("no attentional layer found after the keypoint encoder ('{}')", states[0]));
+  if (layers.empty())
+    graph.fail(fmt::format("no attentional layer found after the keypoint encoder ('{}')", states[0]));
 
   const onnx::NodeProto& final0 = find_final_projection(graph, states[0]);
   const onnx::NodeProto& final1 = find_final_projection(graph, states[1]);

@@ -72,14 +72,16 @@ std::vector<NamedConv> map_encoder(const OnnxGraph& graph, std::string& trunk) {
   }
   if (convs.size() != kSuperPointEncoderLayers || relu_pending) {
     const std::string where = last ? OnnxGraph::describe(*last) : "the input '" + inputs.front() + "'";
-    graph.fail(fmt::format("SuperPoint encoder: found {} Conv+ReLU stages before the heads, expected {} (the "
-                           "Conv/Relu/MaxPool chain ends after {})",
-                           convs.size() - (relu_pending ? 1 : 0), kSuperPointEncoderLayers, where));
+    graph.fail(
+        fmt::format("SuperPoint encoder: found {} Conv+ReLU stages before the heads, expected {} (the "
+                    "Conv/Relu/MaxPool chain ends after {})",
+                    convs.size() - (relu_pending ? 1 : 0), kSuperPointEncoderLayers, where));
   }
-  if (pools_after != std::vector<std::size_t>(features::kSuperPointPoolAfter.begin(),
-                                               features::kSuperPointPoolAfter.end()))
+  if (pools_after !=
+      std::vector<std::size_t>(features::kSuperPointPoolAfter.begin(), features::kSuperPointPoolAfter.end()))
     graph.fail(*last, fmt::format("SuperPoint encoder: max-pools follow convolutions [{}], expected after conv1b, "
-                                  "conv2b and conv3b", fmt::join(pools_after, ", ")));
+                                  "conv2b and conv3b",
+                                  fmt::join(pools_after, ", ")));
   trunk = value;
   return convs;
 }
@@ -96,8 +98,8 @@ void check_dustbin_slice(const OnnxGraph& graph, const onnx::NodeProto& softmax)
   if (*axes != std::vector<std::int64_t>{1} || *starts != std::vector<std::int64_t>{0} ||
       (*ends != std::vector<std::int64_t>{-1} && *ends != std::vector<std::int64_t>{64}))
     graph.fail(*slice, fmt::format("expected the slice [0, 64) of channel axis 1 (drop the dustbin), found "
-                                   "starts {} ends {} axes {}", fmt::join(*starts, ","), fmt::join(*ends, ","),
-                                   fmt::join(*axes, ",")));
+                                   "starts {} ends {} axes {}",
+                                   fmt::join(*starts, ","), fmt::join(*ends, ","), fmt::join(*axes, ",")));
 }
 
 // Checks the channel-wise L2 norm after the descriptor head (ReduceL2 over axis 1 or LpNormalization p=2 axis 1).
@@ -164,9 +166,11 @@ io::ModelPackWriter convert_superpoint(const OnnxGraph& graph) {
     slot = std::move(convs);
   }
   if (!detector || !descriptor)
-    graph.fail(fmt::format("SuperPoint needs a detector head (Conv-Relu-Conv-Softmax) and a descriptor head "
-                           "(Conv-Relu-Conv-L2 norm) reading the encoder output '{}'; found {} detector and {} "
-                           "descriptor head", trunk, detector ? 1 : 0, descriptor ? 1 : 0));
+    graph.fail(
+        fmt::format("SuperPoint needs a detector head (Conv-Relu-Conv-Softmax) and a descriptor head "
+                    "(Conv-Relu-Conv-L2 norm) reading the encoder output '{}'; found {} detector and {} "
+                    "descriptor head",
+                    trunk, detector ? 1 : 0, descriptor ? 1 : 0));
 
   io::ModelPackWriter pack(io::NetworkKind::superpoint);
   for (const auto& [name, conv] : encoder) add_conv(pack, name, conv);

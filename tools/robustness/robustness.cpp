@@ -6,9 +6,9 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <spdlog/spdlog.h>
 
 #include "eval/evaluate.hpp"
 #include "eval/plot.hpp"
@@ -64,7 +64,8 @@ void write_plot(const fs::path& png, const std::vector<Plotted>& runs) {
 
 std::vector<Scenario> standard_scenarios(int frames, double rate_hz) {
   if (frames < 4 || !(rate_hz > 0))
-    throw std::invalid_argument(fmt::format("robustness: a sequence of {} frames at {} Hz is too short", frames, rate_hz));
+    throw std::invalid_argument(
+        fmt::format("robustness: a sequence of {} frames at {} Hz is too short", frames, rate_hz));
   std::vector<Scenario> out;
   out.push_back({"clean", "the sequence as recorded", {}, 0.0, std::nullopt});
   const int middle = frames / 2;
@@ -83,18 +84,26 @@ std::vector<Scenario> standard_scenarios(int frames, double rate_hz) {
       out.push_back(std::move(s));
     }
   }
-  out.push_back({"dim 10%", fmt::format("light dimming slowly to 10 % over frames {}-{}, then staying there",
-                                        frames / 4, frames / 2),
-                 {event(EventKind::dimming, frames / 4, frames / 2, 0.1)}, 0.0, std::nullopt});
-  out.push_back({"gamma flicker", fmt::format("tone curve v^0.5 / v^2 on alternate frames {}-{}", frames / 4,
-                                              3 * frames / 4),
-                 {event(EventKind::gamma_flicker, frames / 4, 3 * frames / 4, 0.5)}, 0.0, std::nullopt});
+  out.push_back(
+      {"dim 10%",
+       fmt::format("light dimming slowly to 10 % over frames {}-{}, then staying there", frames / 4, frames / 2),
+       {event(EventKind::dimming, frames / 4, frames / 2, 0.1)},
+       0.0,
+       std::nullopt});
+  out.push_back({"gamma flicker",
+                 fmt::format("tone curve v^0.5 / v^2 on alternate frames {}-{}", frames / 4, 3 * frames / 4),
+                 {event(EventKind::gamma_flicker, frames / 4, 3 * frames / 4, 0.5)},
+                 0.0,
+                 std::nullopt});
   auto right = event(EventKind::stereo_exposure, 0, -1, 0.4);
   right.cameras = synth::CameraMask::right;
   out.push_back({"right darker", "the right camera at 40 % exposure throughout", {right}, 0.0, std::nullopt});
   auto step = event(EventKind::stereo_exposure, middle, -1, 0.35);
   step.cameras = synth::CameraMask::both;
-  out.push_back({"exposure step", fmt::format("both cameras at 35 % exposure from frame {} on", middle), {step}, 0.0,
+  out.push_back({"exposure step",
+                 fmt::format("both cameras at 35 % exposure from frame {} on", middle),
+                 {step},
+                 0.0,
                  std::nullopt});
   return out;
 }
@@ -142,7 +151,8 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& dataset, const system:
       r.scenario = scenario.name;
       r.lines = lines;
       std::string folder = scenario.name;
-      std::replace_if(folder.begin(), folder.end(), [](char c) { return c == ' ' || c == '%' || c == '/'; }, '_');
+      std::replace_if(
+          folder.begin(), folder.end(), [](char c) { return c == ' ' || c == '%' || c == '/'; }, '_');
       system::RunOptions run_options;
       run_options.output_dir = options.out_dir / (lines ? folder : folder + "-nolines");
       run_options.progress = false;
@@ -200,7 +210,8 @@ std::string format_table(const std::vector<ScenarioResult>& results) {
   for (const auto& r : results) {
     if (!r.lines) continue;
     if (!r.error.empty()) {
-      table += fmt::format("| {} | failed: {} |{}\n", r.scenario, r.error, ablation ? " | | | | | | | |" : " | | | | | |");
+      table +=
+          fmt::format("| {} | failed: {} |{}\n", r.scenario, r.error, ablation ? " | | | | | | | |" : " | | | | | |");
       continue;
     }
     const std::string ratio = clean && clean->ate_m > 0 ? fmt::format("{:.2f}", r.ate_m / clean->ate_m) : "-";
@@ -210,7 +221,8 @@ std::string format_table(const std::vector<ScenarioResult>& results) {
     if (ablation) {
       const ScenarioResult* without = find(r.scenario, false);
       if (without && without->error.empty() && without->ate_m > 0)
-        table += fmt::format(" {:.4f} | {:+.0f} % |", without->ate_m, 100.0 * (without->ate_m - r.ate_m) / without->ate_m);
+        table +=
+            fmt::format(" {:.4f} | {:+.0f} % |", without->ate_m, 100.0 * (without->ate_m - r.ate_m) / without->ate_m);
       else
         table += " - | - |";
     }

@@ -18,10 +18,10 @@
 namespace vkvo::robustness {
 
 struct Scenario {
-  std::string name;         // short, for tables and folder names
+  std::string name;  // short, for tables and folder names
   std::string description;
   std::vector<synth::IlluminationEvent> events;  // none: the clean run
-  double noise_sigma = 0;   // Gaussian read noise (DN) on the affected frames
+  double noise_sigma = 0;                        // Gaussian read noise (DN) on the affected frames
   // Frames with no usable light (0-based, inclusive), when the scenario has such a stretch: its frames are the
   // ones expected to be lost, reported apart.
   std::optional<std::pair<int, int>> dark;
@@ -41,18 +41,18 @@ struct ScenarioResult {
   bool lines = true;
   std::size_t frames = 0, frames_untracked = 0, frames_bridged = 0;
   int segments = 0, relocalisations = 0, merges = 0;
-  double ate_m = 0;           // every frame
-  double ate_measured_m = 0;  // tracked and relocalised frames (aligned on them)
-  double ate_gap_m = 0;       // bridged frames, under that alignment (0 when none)
-  double ate_keyframes_m = 0; // refined keyframes
+  double ate_m = 0;            // every frame
+  double ate_measured_m = 0;   // tracked and relocalised frames (aligned on them)
+  double ate_gap_m = 0;        // bridged frames, under that alignment (0 when none)
+  double ate_keyframes_m = 0;  // refined keyframes
   double frames_per_second = 0;
-  std::string error;          // the run or its evaluation failed: what happened
+  std::string error;  // the run or its evaluation failed: what happened
 };
 
 struct BenchmarkOptions {
   std::filesystem::path out_dir;
-  bool ablate_lines = false;     // every scenario also without lines
-  bool keep_sequences = false;   // keep the perturbed copies (they are large)
+  bool ablate_lines = false;    // every scenario also without lines
+  bool keep_sequences = false;  // keep the perturbed copies (they are large)
 };
 
 // Runs every scenario (the first should be the clean one: ratios are to it) and writes out_dir/<scenario>[-nolines]/

@@ -17,15 +17,15 @@ namespace vkvo::synth {
 struct RigParams {
   int width = 752, height = 480;
   double fx = 458.0, fy = 458.0, cx = 375.5, cy = 239.5;  // rectified pinhole, shared by both cameras
-  double baseline = 0.11;                                   // metres; cam1 sits at +baseline along cam0's x
+  double baseline = 0.11;                                 // metres; cam1 sits at +baseline along cam0's x
 };
 
 struct SensorParams {
-  double exposure = 230.0;        // digital numbers per unit of scene radiance (albedo x irradiance)
-  double read_noise = 1.2;        // DN, Gaussian
-  double shot_noise = 0.04;       // variance in DN^2 per DN of signal (photon noise)
-  bool motion_blur = false;       // average sub-frame renders over the exposure time
-  double exposure_time = 0.015;   // seconds, centred on the frame timestamp
+  double exposure = 230.0;       // digital numbers per unit of scene radiance (albedo x irradiance)
+  double read_noise = 1.2;       // DN, Gaussian
+  double shot_noise = 0.04;      // variance in DN^2 per DN of signal (photon noise)
+  bool motion_blur = false;      // average sub-frame renders over the exposure time
+  double exposure_time = 0.015;  // seconds, centred on the frame timestamp
   int blur_samples = 5;
 };
 

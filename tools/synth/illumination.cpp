@@ -19,12 +19,18 @@ struct KindName {
   EventKind kind;
 };
 constexpr KindName kKindNames[] = {
-    {"lights_off", EventKind::lights_off},   {"off", EventKind::lights_off},
-    {"dim", EventKind::dimming},             {"dimming", EventKind::dimming},
-    {"overexposure", EventKind::overexposure}, {"overexpose", EventKind::overexposure},
-    {"flicker", EventKind::flicker},         {"spotlight", EventKind::spotlight},
-    {"spot", EventKind::spotlight},          {"stereo_exposure", EventKind::stereo_exposure},
-    {"stereo", EventKind::stereo_exposure},  {"gamma", EventKind::gamma_flicker},
+    {"lights_off", EventKind::lights_off},
+    {"off", EventKind::lights_off},
+    {"dim", EventKind::dimming},
+    {"dimming", EventKind::dimming},
+    {"overexposure", EventKind::overexposure},
+    {"overexpose", EventKind::overexposure},
+    {"flicker", EventKind::flicker},
+    {"spotlight", EventKind::spotlight},
+    {"spot", EventKind::spotlight},
+    {"stereo_exposure", EventKind::stereo_exposure},
+    {"stereo", EventKind::stereo_exposure},
+    {"gamma", EventKind::gamma_flicker},
     {"gamma_flicker", EventKind::gamma_flicker},
 };
 
@@ -91,10 +97,16 @@ IlluminationEvent make_event(EventKind kind, int first_frame, int last_frame) {
   switch (kind) {
     case EventKind::lights_off: event.gain = 0.02; break;
     case EventKind::dimming: event.gain = 0.1; break;
-    case EventKind::overexposure: event.gain = 3.0; event.ramp_frames = 2; break;
+    case EventKind::overexposure:
+      event.gain = 3.0;
+      event.ramp_frames = 2;
+      break;
     case EventKind::flicker: event.gain = 1.0; break;
     case EventKind::spotlight: event.gain = 1.6; break;
-    case EventKind::stereo_exposure: event.gain = 0.5; event.cameras = CameraMask::right; break;
+    case EventKind::stereo_exposure:
+      event.gain = 0.5;
+      event.cameras = CameraMask::right;
+      break;
     case EventKind::gamma_flicker: event.gain = 0.5; break;  // gamma 0.5 / 2.0 on alternate frames
   }
   return event;
@@ -109,18 +121,22 @@ IlluminationEvent parse_event(std::string_view spec) {
 
   const size_t colon = head.find(':');
   const std::string_view name = trim(head.substr(0, colon));
-  const auto* found = std::find_if(std::begin(kKindNames), std::end(kKindNames),
-                                   [&](const KindName& k) { return k.name == name; });
+  const auto* found =
+      std::find_if(std::begin(kKindNames), std::end(kKindNames), [&](const KindName& k) { return k.name == name; });
   if (found == std::end(kKindNames))
-    throw std::runtime_error(fmt::format("illumination event '{}': unknown kind '{}' (lights_off, dim, "
-                                         "overexposure, flicker, spotlight, stereo_exposure, gamma)", whole, name));
+    throw std::runtime_error(
+        fmt::format("illumination event '{}': unknown kind '{}' (lights_off, dim, "
+                    "overexposure, flicker, spotlight, stereo_exposure, gamma)",
+                    whole, name));
   int first = 0, last = -1;
   if (colon != std::string_view::npos) {
     const std::string_view range = trim(head.substr(colon + 1));
     const size_t dash = range.find('-');
     first = parse_int(range.substr(0, dash), whole);
-    if (dash == std::string_view::npos) last = first;
-    else if (!trim(range.substr(dash + 1)).empty()) last = parse_int(range.substr(dash + 1), whole);
+    if (dash == std::string_view::npos)
+      last = first;
+    else if (!trim(range.substr(dash + 1)).empty())
+      last = parse_int(range.substr(dash + 1), whole);
     if (last >= 0 && last < first)
       throw std::runtime_error(fmt::format("illumination event '{}': last frame before first", whole));
   }
@@ -136,17 +152,27 @@ IlluminationEvent parse_event(std::string_view spec) {
       throw std::runtime_error(fmt::format("illumination event '{}': expected key=value, got '{}'", whole, item));
     const std::string_view key = trim(item.substr(0, eq));
     const std::string_view value = trim(item.substr(eq + 1));
-    if (key == "gain" || key == "level") event.gain = parse_double(value, key, whole);
-    else if (key == "ambient") event.ambient = parse_double(value, key, whole);
-    else if (key == "depth") event.depth = parse_double(value, key, whole);
-    else if (key == "period") event.period_frames = parse_double(value, key, whole);
-    else if (key == "sigma") event.sigma = parse_double(value, key, whole);
-    else if (key == "ramp") event.ramp_frames = parse_int(value, whole);
+    if (key == "gain" || key == "level")
+      event.gain = parse_double(value, key, whole);
+    else if (key == "ambient")
+      event.ambient = parse_double(value, key, whole);
+    else if (key == "depth")
+      event.depth = parse_double(value, key, whole);
+    else if (key == "period")
+      event.period_frames = parse_double(value, key, whole);
+    else if (key == "sigma")
+      event.sigma = parse_double(value, key, whole);
+    else if (key == "ramp")
+      event.ramp_frames = parse_int(value, whole);
     else if (key == "cam") {
-      if (value == "both") event.cameras = CameraMask::both;
-      else if (value == "left") event.cameras = CameraMask::left;
-      else if (value == "right") event.cameras = CameraMask::right;
-      else throw std::runtime_error(fmt::format("illumination event '{}': cam must be both|left|right", whole));
+      if (value == "both")
+        event.cameras = CameraMask::both;
+      else if (value == "left")
+        event.cameras = CameraMask::left;
+      else if (value == "right")
+        event.cameras = CameraMask::right;
+      else
+        throw std::runtime_error(fmt::format("illumination event '{}': cam must be both|left|right", whole));
     } else {
       throw std::runtime_error(fmt::format("illumination event '{}': unknown key '{}'", whole, key));
     }

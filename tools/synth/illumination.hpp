@@ -26,13 +26,13 @@ enum class CameraMask { both, left, right };
 struct IlluminationEvent {
   EventKind kind = EventKind::lights_off;
   int first_frame = 0;
-  int last_frame = -1;  // inclusive; -1: until the end of the sequence
-  double gain = 0.02;   // see EventKind for its meaning per kind
-  double ambient = 0.3;         // spotlight: gain outside the beam
-  double depth = 0.6;           // flicker: fraction of light lost at the darkest point
-  double period_frames = 3.7;   // flicker period in frames (non-integer so the phase wanders like mains flicker)
-  double sigma = 0.25;          // spotlight: beam standard deviation as a fraction of the image width
-  int ramp_frames = 0;          // lights_off / overexposure / stereo_exposure: linear transition length
+  int last_frame = -1;         // inclusive; -1: until the end of the sequence
+  double gain = 0.02;          // see EventKind for its meaning per kind
+  double ambient = 0.3;        // spotlight: gain outside the beam
+  double depth = 0.6;          // flicker: fraction of light lost at the darkest point
+  double period_frames = 3.7;  // flicker period in frames (non-integer so the phase wanders like mains flicker)
+  double sigma = 0.25;         // spotlight: beam standard deviation as a fraction of the image width
+  int ramp_frames = 0;         // lights_off / overexposure / stereo_exposure: linear transition length
   CameraMask cameras = CameraMask::both;
 };
 
@@ -41,8 +41,8 @@ IlluminationEvent make_event(EventKind kind, int first_frame, int last_frame);
 
 // Parses "kind[:first[-last]][,key=value...]", e.g. "lights_off:95-104", "dim:50-120,gain=0.1",
 // "spotlight:0-199,sigma=0.2,ambient=0.25", "stereo:0-,gain=0.5,cam=right". Kinds: lights_off|off, dim|dimming,
-// overexposure|overexpose, flicker, spotlight|spot, stereo_exposure|stereo, gamma|gamma_flicker. Keys: gain, ambient, depth, period,
-// sigma, ramp, cam (both|left|right). Throws std::runtime_error naming the spec and the problem.
+// overexposure|overexpose, flicker, spotlight|spot, stereo_exposure|stereo, gamma|gamma_flicker. Keys: gain, ambient,
+// depth, period, sigma, ramp, cam (both|left|right). Throws std::runtime_error naming the spec and the problem.
 IlluminationEvent parse_event(std::string_view spec);
 std::vector<IlluminationEvent> parse_events(const std::vector<std::string>& specs);
 std::string to_string(const IlluminationEvent& event);

@@ -6,8 +6,8 @@
 #include <string>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "tools/synth/noise.hpp"
 
@@ -50,7 +50,8 @@ std::vector<fs::path> asl_images(const fs::path& cam_dir) {
     if (line.empty() || line[0] == '#') continue;
     const size_t comma = line.find(',');
     if (comma == std::string::npos)
-      throw std::runtime_error(fmt::format("perturb: {}: expected 'timestamp,filename', got '{}'", csv_path.string(), line));
+      throw std::runtime_error(
+          fmt::format("perturb: {}: expected 'timestamp,filename', got '{}'", csv_path.string(), line));
     files.push_back(fs::path("data") / trim(line.substr(comma + 1)));
   }
   return files;
@@ -85,8 +86,10 @@ StereoImageLists find_stereo_images(const fs::path& dir) {
       return lists;
     }
   }
-  throw std::runtime_error(fmt::format("perturb: {} is neither an ASL sequence (mav0/cam0, cam1) nor a KITTI "
-                                       "sequence (image_0/image_1 or image_l/image_r)", dir.string()));
+  throw std::runtime_error(
+      fmt::format("perturb: {} is neither an ASL sequence (mav0/cam0, cam1) nor a KITTI "
+                  "sequence (image_0/image_1 or image_l/image_r)",
+                  dir.string()));
 }
 
 cv::Mat perturb_image(const cv::Mat& image, const FrameGain& gain, double noise_sigma, uint64_t stream) {
@@ -101,7 +104,8 @@ cv::Mat perturb_image(const cv::Mat& image, const FrameGain& gain, double noise_
       for (int y = 0; y < linear.rows; ++y) {
         float* row = linear.ptr<float>(y);
         const uint64_t row_stream = hash64(stream + static_cast<uint64_t>(y));
-        for (int x = 0; x < linear.cols; ++x) row[x] += sigma * standard_normal(hash64(row_stream + static_cast<uint64_t>(x)));
+        for (int x = 0; x < linear.cols; ++x)
+          row[x] += sigma * standard_normal(hash64(row_stream + static_cast<uint64_t>(x)));
       }
     }
     linear.convertTo(channel, image.depth());  // rounds and saturates to the source range
@@ -115,7 +119,8 @@ void perturb_sequence(const fs::path& src, const fs::path& dst, const std::vecto
                       const PerturbOptions& options) {
   if (!fs::is_directory(src)) throw std::runtime_error(fmt::format("perturb: {} is not a folder", src.string()));
   if (is_inside(dst, src))
-    throw std::runtime_error(fmt::format("perturb: output {} must not lie inside the source {}", dst.string(), src.string()));
+    throw std::runtime_error(
+        fmt::format("perturb: output {} must not lie inside the source {}", dst.string(), src.string()));
   const StereoImageLists src_lists = find_stereo_images(src);
   fs::create_directories(dst);
   fs::copy(src, dst, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
@@ -126,17 +131,19 @@ void perturb_sequence(const fs::path& src, const fs::path& dst, const std::vecto
   for (int cam = 0; cam < 2; ++cam) {
     // Sequential: PNG coding dominates and errors must surface as exceptions here, not inside a thread pool.
     for (int k = 0; k < static_cast<int>(files[cam]->size()); ++k) {
-        const fs::path path = *dirs[cam] / (*files[cam])[k];
-        // The gain depends on the image size (spotlight), so read the header only when an event applies.
-        if (frame_gain(events, k, cam, 1, 1).is_identity()) continue;
-        const cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-        if (image.empty()) throw std::runtime_error(fmt::format("perturb: cannot read {}", path.string()));
-        const FrameGain gain = frame_gain(events, k, cam, image.cols, image.rows);
-        const cv::Mat out = perturb_image(image, gain, options.noise_sigma, noise_stream(options.seed, k, cam));
-        if (!cv::imwrite(path.string(), out)) throw std::runtime_error(fmt::format("perturb: cannot write {}", path.string()));
+      const fs::path path = *dirs[cam] / (*files[cam])[k];
+      // The gain depends on the image size (spotlight), so read the header only when an event applies.
+      if (frame_gain(events, k, cam, 1, 1).is_identity()) continue;
+      const cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+      if (image.empty()) throw std::runtime_error(fmt::format("perturb: cannot read {}", path.string()));
+      const FrameGain gain = frame_gain(events, k, cam, image.cols, image.rows);
+      const cv::Mat out = perturb_image(image, gain, options.noise_sigma, noise_stream(options.seed, k, cam));
+      if (!cv::imwrite(path.string(), out))
+        throw std::runtime_error(fmt::format("perturb: cannot write {}", path.string()));
     }
   }
-  spdlog::info("perturb: {} -> {} ({} frames, {} events)", src.string(), dst.string(), src_lists.left.size(), events.size());
+  spdlog::info("perturb: {} -> {} ({} frames, {} events)", src.string(), dst.string(), src_lists.left.size(),
+               events.size());
 }
 
 }  // namespace vkvo::synth

@@ -132,7 +132,8 @@ class View {
       };
       for (int i = 0; i < 8; ++i) {
         if (corners[i].z() >= kNear) add(corners[i]);
-        for (int bit = 1; bit < 8; bit <<= 1) {  // edges to corners differing in one coordinate, crossing the near plane
+        for (int bit = 1; bit < 8;
+             bit <<= 1) {  // edges to corners differing in one coordinate, crossing the near plane
           if (i & bit) continue;
           const Eigen::Vector3f& a = corners[i];
           const Eigen::Vector3f& c = corners[i | bit];

@@ -28,7 +28,8 @@ class RoomBuilder {
   }
 
   Scene build() {
-    for (int face = 0; face < 4; ++face) walls_[face] = paint::plaster(canvas_size(face), tpm_, rng_.uniform(0.55, 0.75), rng_);
+    for (int face = 0; face < 4; ++face)
+      walls_[face] = paint::plaster(canvas_size(face), tpm_, rng_.uniform(0.55, 0.75), rng_);
     add_door(rng_.uniform(0, 4));
     add_window(rng_.uniform(0, 4));
     for (int face = 0; face < 4; ++face) add_posters(face);
@@ -75,9 +76,9 @@ class RoomBuilder {
   void add_frame(int face, float u, float v, float w, float h, bool sill) {
     const float bar = 0.08f, depth = 0.05f;
     const int wood = scene_.add_texture(Texture(paint::cardboard({64, 64}, 64.0 / 0.25, rng_), 64.0 / 0.25));
-    add_molding(face, u - bar, v - bar, bar, h + bar, depth, wood);        // left jamb
-    add_molding(face, u + w, v - bar, bar, h + bar, depth, wood);          // right jamb
-    add_molding(face, u - bar, v - bar, w + 2 * bar, bar, depth, wood);    // lintel
+    add_molding(face, u - bar, v - bar, bar, h + bar, depth, wood);      // left jamb
+    add_molding(face, u + w, v - bar, bar, h + bar, depth, wood);        // right jamb
+    add_molding(face, u - bar, v - bar, w + 2 * bar, bar, depth, wood);  // lintel
     if (sill) add_molding(face, u - bar, v + h, w + 2 * bar, bar, depth, wood);
   }
 
@@ -127,7 +128,8 @@ class RoomBuilder {
     const Eigen::AlignedBox3f& room = scene_.room;
     std::vector<Eigen::AlignedBox3f> placed;
     for (int i = 0, tries = 0; i < params_.num_boxes && tries < 500; ++tries) {
-      const Eigen::Vector3f size(static_cast<float>(rng_.uniform(0.3, 0.85)), static_cast<float>(rng_.uniform(0.3, 0.85)),
+      const Eigen::Vector3f size(static_cast<float>(rng_.uniform(0.3, 0.85)),
+                                 static_cast<float>(rng_.uniform(0.3, 0.85)),
                                  static_cast<float>(rng_.uniform(0.25, 1.1)));
       if (size.x() > params_.furniture_band && size.y() > params_.furniture_band) continue;
       const int face = rng_.uniform(0, 4);
@@ -169,7 +171,8 @@ class RoomBuilder {
   }
 
   bool blocks_door(const Eigen::AlignedBox3f& box) const {
-    const Eigen::Vector3f a = wall_point(door_.face, door_.u0, 0.f, 0.f), b = wall_point(door_.face, door_.u1, 0.f, 1.0f);
+    const Eigen::Vector3f a = wall_point(door_.face, door_.u0, 0.f, 0.f),
+                          b = wall_point(door_.face, door_.u1, 0.f, 1.0f);
     Eigen::AlignedBox3f zone(a.cwiseMin(b), a.cwiseMax(b));
     zone.min().z() = scene_.room.min().z();
     zone.max().z() = scene_.room.max().z();

@@ -60,8 +60,8 @@ struct PointLight {
 };
 
 struct Scene {
-  Eigen::AlignedBox3f room;              // seen from inside
-  std::array<int, 6> room_textures{};    // per face (0: x = min wall, 1: x = max wall, ..., 4: floor, 5: ceiling)
+  Eigen::AlignedBox3f room;            // seen from inside
+  std::array<int, 6> room_textures{};  // per face (0: x = min wall, 1: x = max wall, ..., 4: floor, 5: ceiling)
   std::vector<Box> boxes;
   std::vector<Texture> textures;
   std::vector<PointLight> lights;
@@ -70,16 +70,18 @@ struct Scene {
 
   int add_texture(Texture texture);
   void add_box(const Eigen::AlignedBox3f& bounds, const std::array<int, 6>& face_textures);
-  void add_box(const Eigen::AlignedBox3f& bounds, int texture) { add_box(bounds, {texture, texture, texture, texture, texture, texture}); }
+  void add_box(const Eigen::AlignedBox3f& bounds, int texture) {
+    add_box(bounds, {texture, texture, texture, texture, texture, texture});
+  }
 };
 
 struct SceneParams {
   Eigen::Vector3f room_min{-3.75f, -3.0f, 0.0f};
   Eigen::Vector3f room_max{3.75f, 3.0f, 3.0f};
-  int num_boxes = 8;                    // furniture boxes placed along the walls
-  float furniture_band = 0.9f;          // boxes stay within this distance of a wall (the camera flies inside it)
+  int num_boxes = 8;            // furniture boxes placed along the walls
+  float furniture_band = 0.9f;  // boxes stay within this distance of a wall (the camera flies inside it)
   int posters_per_wall = 3;
-  double texels_per_meter = 300.0;      // texture resolution of walls, floor, ceiling and boxes
+  double texels_per_meter = 300.0;  // texture resolution of walls, floor, ceiling and boxes
 };
 
 // A seeded procedural room: plaster walls with posters, a door with a frame, a window with a frame, plank floor,

@@ -41,15 +41,16 @@ void write_info(const SynthConfig& c, const fs::path& path) {
   f << fmt::format("width: {}\nheight: {}\nfx: {}\nfy: {}\ncx: {}\ncy: {}\nbaseline: {}\n", c.rig.width, c.rig.height,
                    c.rig.fx, c.rig.fy, c.rig.cx, c.rig.cy, c.rig.baseline);
   const TrajectoryParams& t = c.trajectory;
-  f << fmt::format("speed: {}\nyaw_rate_deg: {}\nyaw_sway_deg: {}\npitch_deg: {}\npitch_sway_deg: {}\n"
-                   "roll_sway_deg: {}\nstart_yaw_deg: {}\n",
-                   t.speed, t.yaw_rate_deg, t.yaw_sway_deg, t.pitch_deg, t.pitch_sway_deg, t.roll_sway_deg,
-                   t.start_yaw_deg);
+  f << fmt::format(
+      "speed: {}\nyaw_rate_deg: {}\nyaw_sway_deg: {}\npitch_deg: {}\npitch_sway_deg: {}\n"
+      "roll_sway_deg: {}\nstart_yaw_deg: {}\n",
+      t.speed, t.yaw_rate_deg, t.yaw_sway_deg, t.pitch_deg, t.pitch_sway_deg, t.roll_sway_deg, t.start_yaw_deg);
   f << fmt::format("num_boxes: {}\ntexels_per_meter: {}\n", c.scene.num_boxes, c.scene.texels_per_meter);
   const SensorParams& s = c.sensor;
-  f << fmt::format("exposure: {}\nread_noise: {}\nshot_noise: {}\nmotion_blur: {}\nexposure_time: {}\n"
-                   "blur_samples: {}\n",
-                   s.exposure, s.read_noise, s.shot_noise, s.motion_blur, s.exposure_time, s.blur_samples);
+  f << fmt::format(
+      "exposure: {}\nread_noise: {}\nshot_noise: {}\nmotion_blur: {}\nexposure_time: {}\n"
+      "blur_samples: {}\n",
+      s.exposure, s.read_noise, s.shot_noise, s.motion_blur, s.exposure_time, s.blur_samples);
   f << "events:\n";
   for (const auto& e : c.events) f << "  - \"" << to_string(e) << "\"\n";
   if (c.events.empty()) f << "  []\n";
@@ -72,8 +73,8 @@ std::string euroc_sensor_yaml(const io::CameraCalibration& cam, double rate_hz, 
       coeffs += fmt::format("{}{}", i ? ", " : "", num(cam.distortion_coeffs[i]));
     coeffs += "]";
   }
-  const std::string rate = rate_hz == std::floor(rate_hz) ? fmt::format("{}", static_cast<int64_t>(rate_hz))
-                                                          : fmt::format("{}", rate_hz);
+  const std::string rate =
+      rate_hz == std::floor(rate_hz) ? fmt::format("{}", static_cast<int64_t>(rate_hz)) : fmt::format("{}", rate_hz);
   return fmt::format(
       "# General sensor definitions.\n"
       "sensor_type: camera\n"

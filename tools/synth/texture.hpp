@@ -51,7 +51,7 @@ class Texture {
     float scale;  // texels of this level per metre
   };
 
-  static float fast_log2(float x) {  // log2 to ~5e-3 for normal x > 0: plenty for choosing a mip level
+  static float fast_log2(float x) {                // log2 to ~5e-3 for normal x > 0: plenty for choosing a mip level
     const auto bits = std::bit_cast<uint32_t>(x);  // x = (1 + m) * 2^e
     const auto e = static_cast<float>(static_cast<int>(bits >> 23) - 127);
     const float m = static_cast<float>(bits & 0x7fffffu) * (1.f / 8388608.f);

@@ -24,8 +24,8 @@ cv::Mat noisy_surface(cv::Size size, double base, double amplitude, double cell,
 }
 
 std::string random_word(cv::RNG& rng) {
-  static const char* const kWords[] = {"EXIT", "LAB", "VKVO", "STEREO", "ROOM 12", "NO ENTRY", "MEETING",
-                                       "PULL", "AIRVO", "LINES", "POINTS", "VULKAN", "FIRE", "SAFETY", "QUIET"};
+  static const char* const kWords[] = {"EXIT",  "LAB",   "VKVO",   "STEREO", "ROOM 12", "NO ENTRY", "MEETING", "PULL",
+                                       "AIRVO", "LINES", "POINTS", "VULKAN", "FIRE",    "SAFETY",   "QUIET"};
   return kWords[rng.uniform(0, static_cast<int>(std::size(kWords)))];
 }
 
@@ -177,10 +177,10 @@ void door(cv::Mat& canvas, const cv::Rect& area, double tpm, cv::RNG& rng) {
   const int m = texels(0.12, tpm);
   const int panel_h = (roi.rows - 3 * m) / 2;
   for (int i = 0; i < 2; ++i)
-    cv::rectangle(roi, cv::Rect(m, m + i * (panel_h + m), roi.cols - 2 * m, panel_h), gray(0.12),
-                  texels(0.015, tpm), cv::LINE_AA);
-  cv::circle(roi, {roi.cols - texels(0.08, tpm), roi.rows / 2 + texels(0.05, tpm)}, texels(0.03, tpm),
-             gray(0.85), cv::FILLED, cv::LINE_AA);
+    cv::rectangle(roi, cv::Rect(m, m + i * (panel_h + m), roi.cols - 2 * m, panel_h), gray(0.12), texels(0.015, tpm),
+                  cv::LINE_AA);
+  cv::circle(roi, {roi.cols - texels(0.08, tpm), roi.rows / 2 + texels(0.05, tpm)}, texels(0.03, tpm), gray(0.85),
+             cv::FILLED, cv::LINE_AA);
 }
 
 void window(cv::Mat& canvas, const cv::Rect& area, double tpm, cv::RNG& rng) {

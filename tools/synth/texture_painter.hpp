@@ -9,9 +9,9 @@ namespace vkvo::synth::paint {
 cv::Mat value_noise(cv::Size size, double largest_cell, int octaves, cv::RNG& rng);
 
 cv::Mat plaster(cv::Size size, double tpm, double base_albedo, cv::RNG& rng);  // walls: smooth, stained, grainy
-cv::Mat planks(cv::Size size, double tpm, cv::RNG& rng);                      // floor: wooden planks along u
-cv::Mat ceiling_tiles(cv::Size size, double tpm, cv::RNG& rng);               // ceiling: 0.6 m acoustic tiles
-cv::Mat cardboard(cv::Size size, double tpm, cv::RNG& rng);                   // box face: tape and label
+cv::Mat planks(cv::Size size, double tpm, cv::RNG& rng);                       // floor: wooden planks along u
+cv::Mat ceiling_tiles(cv::Size size, double tpm, cv::RNG& rng);                // ceiling: 0.6 m acoustic tiles
+cv::Mat cardboard(cv::Size size, double tpm, cv::RNG& rng);                    // box face: tape and label
 
 // Drawn onto an existing canvas inside `area`.
 void poster(cv::Mat& canvas, const cv::Rect& area, double tpm, cv::RNG& rng);

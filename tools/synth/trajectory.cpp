@@ -60,7 +60,8 @@ Eigen::Vector3d SmoothTrajectory::position_at_phase(double s) const {
 Eigen::Isometry3d SmoothTrajectory::pose(double t) const {
   const double yaw = rad(params_.start_yaw_deg + params_.yaw_rate_deg * t) +
                      rad(params_.yaw_sway_deg) * std::sin(2 * kPi * 0.09 * t + offsets_[3]);
-  const double pitch = rad(params_.pitch_deg) + rad(params_.pitch_sway_deg) * std::sin(2 * kPi * 0.13 * t + offsets_[4]);
+  const double pitch =
+      rad(params_.pitch_deg) + rad(params_.pitch_sway_deg) * std::sin(2 * kPi * 0.13 * t + offsets_[4]);
   const double roll = rad(params_.roll_sway_deg) * std::sin(2 * kPi * 0.21 * t + offsets_[5]);
   // Camera looking along world +x with zero angles: camera x = -world y, camera y = -world z, camera z = world x.
   Eigen::Matrix3d level;

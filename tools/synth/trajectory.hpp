@@ -20,7 +20,7 @@ struct TrajectoryParams {
   double pitch_deg = -8.0;                // mean pitch (negative: looking down)
   double pitch_sway_deg = 8.0;
   double roll_sway_deg = 4.0;
-  double start_yaw_deg = 0.0;             // heading at t = 0 (0: looking along world +x)
+  double start_yaw_deg = 0.0;  // heading at t = 0 (0: looking along world +x)
 };
 
 class SmoothTrajectory {
@@ -28,13 +28,13 @@ class SmoothTrajectory {
   // `seed` varies the phases of the oscillations.
   SmoothTrajectory(const TrajectoryParams& params, uint64_t seed);
 
-  Eigen::Isometry3d pose(double t) const;  // T_world_camera (camera: x right, y down, z forward)
+  Eigen::Isometry3d pose(double t) const;    // T_world_camera (camera: x right, y down, z forward)
   Eigen::Vector3d velocity(double t) const;  // world frame, m/s
 
  private:
   Eigen::Vector3d position_at_phase(double s) const;  // the path as a function of the ellipse angle
-  double phase_rate(double s) const;                   // ds/dt that moves at params.speed at phase s
-  double phase(double t) const;                        // s(t): arc-length parametrisation, from the table
+  double phase_rate(double s) const;                  // ds/dt that moves at params.speed at phase s
+  double phase(double t) const;                       // s(t): arc-length parametrisation, from the table
   Eigen::Vector3d position(double t) const { return position_at_phase(phase(t)); }
 
   TrajectoryParams params_;

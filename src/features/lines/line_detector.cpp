@@ -13,12 +13,9 @@ namespace {
 
 int lsd_refine_flag(LsdParams::Refine refine) {
   switch (refine) {
-    case LsdParams::Refine::kNone:
-      return cv::LSD_REFINE_NONE;
-    case LsdParams::Refine::kStandard:
-      return cv::LSD_REFINE_STD;
-    case LsdParams::Refine::kAdvanced:
-      return cv::LSD_REFINE_ADV;
+    case LsdParams::Refine::kNone: return cv::LSD_REFINE_NONE;
+    case LsdParams::Refine::kStandard: return cv::LSD_REFINE_STD;
+    case LsdParams::Refine::kAdvanced: return cv::LSD_REFINE_ADV;
   }
   return cv::LSD_REFINE_STD;
 }

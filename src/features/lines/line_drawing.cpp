@@ -50,8 +50,8 @@ void draw_view(cv::Mat& canvas, const LineOverlayView& view, const std::vector<c
 }
 
 void check_view(const LineOverlayView& view) {
-  if (view.association && (view.association->line_count() != view.lines.size() ||
-                           view.association->point_count() != view.points.size()))
+  if (view.association &&
+      (view.association->line_count() != view.lines.size() || view.association->point_count() != view.points.size()))
     throw std::invalid_argument("line overlay: association sizes do not match the lines/points given");
 }
 

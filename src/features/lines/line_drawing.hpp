@@ -12,9 +12,9 @@
 namespace vkvo::features {
 
 struct LineOverlayView {
-  cv::Mat image;                                  // gray or BGR, 8-bit
+  cv::Mat image;  // gray or BGR, 8-bit
   std::vector<LineSegment> lines;
-  std::vector<Eigen::Vector2f> points;            // may be empty
+  std::vector<Eigen::Vector2f> points;                // may be empty
   const PointLineAssociation* association = nullptr;  // optional; sizes must match lines/points
 };
 
@@ -26,6 +26,7 @@ cv::Mat draw_line_overlay(const LineOverlayView& view);
 
 // Two images side by side (A left, B right). Matched lines share a colour; unmatched lines are grey.
 // `line_matches_a_to_b` is the output of match_lines (size = lines of A).
-cv::Mat draw_line_matches(const LineOverlayView& a, const LineOverlayView& b, const std::vector<int>& line_matches_a_to_b);
+cv::Mat draw_line_matches(const LineOverlayView& a, const LineOverlayView& b,
+                          const std::vector<int>& line_matches_a_to_b);
 
 }  // namespace vkvo::features

@@ -9,8 +9,8 @@ namespace vkvo::features {
 std::vector<LineMatchCandidate> line_match_candidates(const PointLineAssociation& a, const PointLineAssociation& b,
                                                       const std::vector<int>& point_matches_a_to_b) {
   if (point_matches_a_to_b.size() != a.point_count())
-    throw std::invalid_argument("match_lines: " + std::to_string(point_matches_a_to_b.size()) +
-                                " point matches for " + std::to_string(a.point_count()) + " points of image A");
+    throw std::invalid_argument("match_lines: " + std::to_string(point_matches_a_to_b.size()) + " point matches for " +
+                                std::to_string(a.point_count()) + " points of image A");
   const int points_b = static_cast<int>(b.point_count());
   for (int j : point_matches_a_to_b)
     if (j < -1 || j >= points_b)

@@ -69,9 +69,9 @@ LineSegment merge_two_segments(const LineSegment& a, const LineSegment& b) {
 }
 
 std::vector<LineSegment> merge_segments(std::vector<LineSegment> segments, const MergeParams& params) {
-  segments.erase(std::remove_if(segments.begin(), segments.end(),
-                                [](const LineSegment& s) { return !(s.length() > 1e-6f); }),
-                 segments.end());
+  segments.erase(
+      std::remove_if(segments.begin(), segments.end(), [](const LineSegment& s) { return !(s.length() > 1e-6f); }),
+      segments.end());
   bool merged_any = true;
   while (merged_any && segments.size() > 1) {
     merged_any = false;

@@ -28,9 +28,9 @@ struct LsdParams {
 
 // When two segments are fused (full-resolution pixels). See merge_segments().
 struct MergeParams {
-  float max_angle = 0.03f;              // delta_theta [rad]
-  float max_midpoint_distance = 3.0f;   // delta_d [px]
-  float max_endpoint_gap = 50.0f;       // delta_ep [px], only when the segments do not overlap
+  float max_angle = 0.03f;             // delta_theta [rad]
+  float max_midpoint_distance = 3.0f;  // delta_d [px]
+  float max_endpoint_gap = 50.0f;      // delta_ep [px], only when the segments do not overlap
 };
 
 // One merge pass followed by a length filter. The reference code runs a coarse-gap and a wide-gap pass.

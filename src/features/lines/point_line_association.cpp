@@ -98,8 +98,7 @@ PointLineAssociation associate_points_to_lines_brute_force(const std::vector<Eig
 }
 
 PointLineAssociation associate_points_to_lines(const std::vector<Eigen::Vector2f>& points,
-                                               const std::vector<LineSegment>& lines,
-                                               const AssociationParams& params) {
+                                               const std::vector<LineSegment>& lines, const AssociationParams& params) {
   PointLineAssociation association;
   association.points_of_line.resize(lines.size());
   association.lines_of_point.resize(points.size());

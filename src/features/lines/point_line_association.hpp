@@ -23,8 +23,7 @@ bool point_belongs_to_segment(const Eigen::Vector2f& point, const LineSegment& l
 
 // Uses a uniform grid over the points: each line visits only the cells its distance corridor crosses.
 PointLineAssociation associate_points_to_lines(const std::vector<Eigen::Vector2f>& points,
-                                               const std::vector<LineSegment>& lines,
-                                               const AssociationParams& params);
+                                               const std::vector<LineSegment>& lines, const AssociationParams& params);
 
 // Reference implementation: tests every point against every line (O(points x lines)).
 PointLineAssociation associate_points_to_lines_brute_force(const std::vector<Eigen::Vector2f>& points,

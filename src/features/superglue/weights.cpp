@@ -20,8 +20,8 @@ struct Linear {
 Linear read_linear(const io::ModelPack& pack, const std::string& name, int out, int in) {
   const auto& w = pack.tensor(name + ".weight", io::DType::fp32);
   if (w.shape.size() != 2 || w.layout != "oi")
-    throw std::runtime_error(fmt::format("model pack '{}': tensor '{}.weight' must be a 2-D 'oi' linear weight",
-                                         pack.source(), name));
+    throw std::runtime_error(
+        fmt::format("model pack '{}': tensor '{}.weight' must be a 2-D 'oi' linear weight", pack.source(), name));
   Linear l{int(w.shape[0]), int(w.shape[1]), pack.floats(name + ".weight", io::DType::fp32),
            pack.floats(name + ".bias", io::DType::fp32)};
   if (l.bias.size() < std::size_t(l.out))

@@ -22,17 +22,17 @@ struct SuperPointConvSpec {
 // the detector (64 cells + dustbin = 65 outputs) and the descriptor. convDb's width is the descriptor dimension:
 // 256 in the release, which the converter requires; the network takes whatever width the pack has.
 inline constexpr std::array<SuperPointConvSpec, kSuperPointLayers> kSuperPointArchitecture{{{"conv1a", 1, 64, 3},
-                                                                                          {"conv1b", 64, 64, 3},
-                                                                                          {"conv2a", 64, 64, 3},
-                                                                                          {"conv2b", 64, 64, 3},
-                                                                                          {"conv3a", 64, 128, 3},
-                                                                                          {"conv3b", 128, 128, 3},
-                                                                                          {"conv4a", 128, 128, 3},
-                                                                                          {"conv4b", 128, 128, 3},
-                                                                                          {"convPa", 128, 256, 3},
-                                                                                          {"convPb", 256, 65, 1},
-                                                                                          {"convDa", 128, 256, 3},
-                                                                                          {"convDb", 256, 256, 1}}};
+                                                                                            {"conv1b", 64, 64, 3},
+                                                                                            {"conv2a", 64, 64, 3},
+                                                                                            {"conv2b", 64, 64, 3},
+                                                                                            {"conv3a", 64, 128, 3},
+                                                                                            {"conv3b", 128, 128, 3},
+                                                                                            {"conv4a", 128, 128, 3},
+                                                                                            {"conv4b", 128, 128, 3},
+                                                                                            {"convPa", 128, 256, 3},
+                                                                                            {"convPb", 256, 65, 1},
+                                                                                            {"convDa", 128, 256, 3},
+                                                                                            {"convDb", 256, 256, 1}}};
 
 // A 2x2 max-pool follows each of these encoder convolutions.
 inline constexpr std::array<SuperPointLayer, 3> kSuperPointPoolAfter{conv1b, conv2b, conv3b};

@@ -50,8 +50,8 @@ SuperPointConv find_conv(const io::ModelPack& pack, SuperPointLayer layer, rt::P
       rt::conv_weight_precision(precision) == rt::Precision::fp32 ? io::DType::fp32 : io::DType::fp16;
   const auto& w = pack.tensor(std::string(expected.name) + ".weight", dtype);
   const auto& b = pack.tensor(std::string(expected.name) + ".bias", io::DType::fp32);
-  SuperPointConv conv{expected.name, expected.in, expected.out, expected.kernel, w.offset, w.byte_size, b.offset,
-                      b.byte_size};
+  SuperPointConv conv{expected.name, expected.in, expected.out, expected.kernel,
+                      w.offset,      w.byte_size, b.offset,     b.byte_size};
   // The descriptor dimension is the pack's (convDb's output width).
   if (layer == convDb && !w.shape.empty()) conv.out_channels = static_cast<std::uint32_t>(w.shape[0]);
   const std::vector<std::int64_t> want{conv.out_channels, conv.in_channels, conv.kernel, conv.kernel};
@@ -84,16 +84,16 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
       nms(ctx, false),
       max_texel_elements(ctx.caps().max_texel_buffer_elements) {
   if (tiled && rt::tiled_kernels_available(ctx, p)) {
-    detector_head_tiled.emplace(ctx, rt::KernelSpec{.op = rt::Op::superpoint_detector_head_tiled, .precision = p,
-                                                    .texel_formats = {rt::activation_texel_format(p),
-                                                                      rt::conv_weight_texel_format(p)}});
+    detector_head_tiled.emplace(
+        ctx, rt::KernelSpec{.op = rt::Op::superpoint_detector_head_tiled,
+                            .precision = p,
+                            .texel_formats = {rt::activation_texel_format(p), rt::conv_weight_texel_format(p)}});
     conv_pool.emplace(ctx, p);
     nms_tiled.emplace(ctx, true);
   } else {
     pool.emplace(ctx, p);
   }
-  for (std::size_t i = 0; i < kSuperPointLayers; ++i)
-    convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
+  for (std::size_t i = 0; i < kSuperPointLayers; ++i) convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
   block.upload(pack.data_block().data(), pack.data_block().size());
 
   // The input plane holds the pixel values 0-255, exact at every storage precision, and SuperPoint's 1/255 is
@@ -172,9 +172,7 @@ bool SuperPointNetwork::uses_winograd(SuperPointLayer layer, const rt::Activatio
   return winograd && winograd_filters.has(layer) && winograd->supports(in, convs[layer].out_channels);
 }
 
-rt::Binding SuperPointNetwork::winograd_weights(SuperPointLayer layer) const {
-  return winograd_filters.binding(layer);
-}
+rt::Binding SuperPointNetwork::winograd_weights(SuperPointLayer layer) const { return winograd_filters.binding(layer); }
 
 rt::Binding SuperPointNetwork::weights(SuperPointLayer layer) const {
   if (rescaled_weights.has(layer)) return rescaled_weights.binding(layer);
@@ -222,8 +220,8 @@ SuperPointPlan::SuperPointPlan(const rt::Context& ctx, const SuperPointNetwork& 
   order_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * 4, rt::BufferKind::device, "superpoint.order");
   keypoints_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * 8, rt::BufferKind::device, "superpoint.keypoints");
   scores_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * 4, rt::BufferKind::device, "superpoint.scores");
-  descriptors_ = rt::Buffer(ctx, std::size_t(max_keypoints_) * dim_ * 4, rt::BufferKind::device,
-                            "superpoint.descriptors");
+  descriptors_ =
+      rt::Buffer(ctx, std::size_t(max_keypoints_) * dim_ * 4, rt::BufferKind::device, "superpoint.descriptors");
   image_.fill_zero();
   allocate_winograd_scratch();
   record();
@@ -280,8 +278,8 @@ void SuperPointPlan::record() {
                             *winograd_products_, buffer, out, relu, false, c.name);
     } else if (const auto gemm = net_.conv1x1_as_gemm(layer, in, in_shape, out_pad, relu)) {
       const rt::Binding bias = net_.bias(layer);
-      net_.conv1x1_gemm->record(seq_, net_.conv1x1_matrices.binding(layer), rt::Binding(in), &bias, rt::Binding(buffer), *gemm,
-                                c.name + " gemm");
+      net_.conv1x1_gemm->record(seq_, net_.conv1x1_matrices.binding(layer), rt::Binding(in), &bias, rt::Binding(buffer),
+                                *gemm, c.name + " gemm");
     } else {
       const rt::Conv2d& op = c.kernel == 3 ? net_.conv3x3 : net_.conv1x1;
       op.record(seq_, in, in_shape, net_.weights(layer), net_.bias(layer), buffer, out, relu, c.name);
@@ -294,8 +292,8 @@ void SuperPointPlan::record() {
     // full-resolution 64-channel activation is never stored nor read back.
     const SuperPointConv& first = net_.convs[levels[level][0]];
     const rt::ActivationShape first_out{first.out_channels, shape.height, shape.width, 1};
-    const bool stem = level == 0 && first.kernel == 3 && first.in_channels == 1 &&
-                      net_.uses_winograd(levels[level][1], first_out);
+    const bool stem =
+        level == 0 && first.kernel == 3 && first.in_channels == 1 && net_.uses_winograd(levels[level][1], first_out);
     const auto [a, a_shape] = stem ? std::pair{x, first_out} : conv(levels[level][0], *x, shape, 1, true);
     if (level == 3) {
       std::tie(x, shape) = conv(levels[level][1], *a, a_shape, 1, true);
@@ -359,8 +357,7 @@ void SuperPointPlan::record() {
   }
   seq_.dispatch(net_.rank, {candidates_, counter_, order_}, RankPush{capacity_, max_keypoints_},
                 {rt::groups_for(capacity_, 64)}, "top-k rank");
-  seq_.dispatch(net_.sample,
-                {candidates_, counter_, order_, dense_descriptors_, keypoints_, scores_, descriptors_},
+  seq_.dispatch(net_.sample, {candidates_, counter_, order_, dense_descriptors_, keypoints_, scores_, descriptors_},
                 SamplePush{cells_h_, cells_w_, dim_, capacity_, max_keypoints_}, {max_keypoints_},
                 "sample descriptors");
   seq_.end();
@@ -378,8 +375,8 @@ std::uint32_t SuperPointPlan::run(const std::uint8_t* pixels, std::size_t stride
 
 std::uint32_t SuperPointPlan::keypoint_count(std::uint32_t candidates) const {
   if (candidates > capacity_)
-    spdlog::warn("SuperPoint: {} NMS candidates exceed the list capacity {}; the weakest may be missing",
-                 candidates, capacity_);
+    spdlog::warn("SuperPoint: {} NMS candidates exceed the list capacity {}; the weakest may be missing", candidates,
+                 capacity_);
   return std::min({candidates, capacity_, max_keypoints_});
 }
 
