@@ -83,6 +83,31 @@ T load_element(const std::byte* bytes) {
   return value;
 }
 
+// Reorders Fortran-order (column-major) element bytes into C order: the C-order walk over the multi-index, with
+// each index's Fortran offset kept alongside.
+std::vector<std::byte> fortran_to_c_order(const std::vector<std::byte>& fortran, const std::vector<size_t>& shape,
+                                          size_t item_size) {
+  if (fortran.empty() || shape.size() < 2) return fortran;  // one axis: both orders are the same
+  std::vector<std::byte> c_order(fortran.size());
+  std::vector<size_t> fortran_stride(shape.size(), item_size);  // bytes per step of each axis in the file
+  for (size_t axis = 1; axis < shape.size(); ++axis) fortran_stride[axis] = fortran_stride[axis - 1] * shape[axis - 1];
+  std::vector<size_t> index(shape.size(), 0);
+  size_t source = 0;
+  for (size_t target = 0; target < c_order.size(); target += item_size) {
+    std::memcpy(c_order.data() + target, fortran.data() + source, item_size);
+    // Next C-order index: the last axis runs fastest.
+    for (size_t axis = shape.size(); axis-- > 0;) {
+      if (++index[axis] < shape[axis]) {
+        source += fortran_stride[axis];
+        break;
+      }
+      source -= (shape[axis] - 1) * fortran_stride[axis];
+      index[axis] = 0;
+    }
+  }
+  return c_order;
+}
+
 void write_npy_bytes(const std::filesystem::path& path, const std::vector<size_t>& shape, const std::string& dtype,
                      const void* values, size_t item_size) {
   std::string shape_text = "(";
@@ -186,7 +211,7 @@ NpyArray read_npy(const std::filesystem::path& path) {
 
   NpyArray array;
   array.dtype = parse_descr(header, path);
-  if (parse_fortran_order(header, path)) fail(path, "Fortran-order arrays are not supported");
+  const bool fortran_order = parse_fortran_order(header, path);
   array.shape = parse_shape(header, path);
   const size_t item = array.item_size();
   if (item == 0) fail(path, "unsupported dtype '" + array.dtype + "' (little-endian numeric types only)");
@@ -196,6 +221,7 @@ NpyArray read_npy(const std::filesystem::path& path) {
   in.read(reinterpret_cast<char*>(array.data.data()), static_cast<std::streamsize>(bytes));
   if (static_cast<size_t>(in.gcount()) != bytes)
     fail(path, "data truncated: expected " + std::to_string(bytes) + " bytes, got " + std::to_string(in.gcount()));
+  if (fortran_order) array.data = fortran_to_c_order(array.data, array.shape, item);
   return array;
 }
 

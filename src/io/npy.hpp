@@ -1,7 +1,8 @@
 #pragma once
-// Minimal reader/writer for NumPy .npy files (format versions 1.0-3.0, C order, little-endian).
+// Minimal reader/writer for NumPy .npy files (format versions 1.0-3.0, little-endian).
 // Enough for exchanging keypoints, descriptors and matches with the Python reference tools; not a general
-// NumPy implementation (no Fortran order, no structured dtypes, no big-endian data).
+// NumPy implementation (no structured dtypes, no big-endian data). Fortran-order files (NumPy writes them for
+// transposed arrays) are read into C order; files are always written in C order.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -13,7 +14,7 @@ namespace vkvo::io {
 struct NpyArray {
   std::vector<size_t> shape;    // empty for a 0-d array
   std::string dtype;            // NumPy descr, e.g. "<f4", "<i4", "<f8", "<i8", "|u1"
-  std::vector<std::byte> data;  // raw element bytes, C order
+  std::vector<std::byte> data;  // raw element bytes, C order (whatever the file's order)
 
   size_t element_count() const;  // product of shape (1 for a 0-d array)
   size_t item_size() const;      // bytes per element, from dtype
