@@ -1,7 +1,7 @@
 # Every dependency is a Debian 12 package (tools/setup.sh installs them).
 find_package(Vulkan 1.3 REQUIRED)
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
-find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs calib3d features2d line_descriptor ximgproc)
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs videoio calib3d features2d line_descriptor ximgproc)
 find_package(Ceres 2.1 REQUIRED)
 find_package(TBB REQUIRED)
 find_package(yaml-cpp REQUIRED)

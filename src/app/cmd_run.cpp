@@ -1,5 +1,7 @@
 // `vkvo run`: the stereo VO on a dataset folder (EuRoC/ASL or KITTI), writing the trajectory as it goes, then the
-// map, a summary and the timing table; with ground truth next to the dataset, the ATE too.
+// map, a summary and the timing table; with ground truth next to the dataset, the ATE too; with --video, the
+// overlay video of the frames and a top-down picture of the map.
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <memory>
@@ -15,6 +17,7 @@
 #include "app/vo_frontends.hpp"
 #include "io/dataset.hpp"
 #include "system/pipeline.hpp"
+#include "viz/video_recorder.hpp"
 
 namespace {
 
@@ -34,6 +37,7 @@ struct Options {
   bool realtime = false;
   vkvo::app::DeviceSelection device;
   fs::path feature_cache;
+  fs::path video;  // empty: none
 };
 
 int run(const Options& o) {
@@ -59,6 +63,10 @@ int run(const Options& o) {
   spdlog::info("dataset {} ({}): {} stereo frames", dataset->name(), vkvo::io::to_string(dataset->kind()),
                dataset->size());
 
+  // Opened before the networks load, so that a path it cannot write fails at once.
+  std::optional<vkvo::viz::VideoRecorder> video;
+  if (!o.video.empty()) video.emplace(o.video, vkvo::viz::video_format(*dataset));
+
   vkvo::app::FrontendOptions frontend_options{
       .superpoint = o.model, .superglue = o.superglue, .device = o.device.context_options()};
   if (!o.feature_cache.empty()) frontend_options.feature_cache = o.feature_cache;
@@ -70,6 +78,7 @@ int run(const Options& o) {
   run_options.realtime = o.realtime;
   run_options.stop = &g_stop;
   run_options.extra_summary = frontends.description();
+  run_options.observer = video ? &*video : nullptr;
   const auto result = vkvo::system::run_vo(*dataset, config, frontends.feature(), frontends.stereo(), run_options);
   if (const auto& cache = frontends.cache())
     spdlog::info("feature cache {}: {} image(s) came from it", cache->folder() ? cache->folder()->string() : "(memory)",
@@ -84,6 +93,14 @@ int run(const Options& o) {
   fmt::print("trajectory: {}\nframes:     {}\nkeyframes:  {} (refined: {})\nsummary:    {}\nmap:        {}\n",
              result.trajectory.string(), result.frames_file.string(), result.keyframes_file.string(),
              result.keyframes_refined_file.string(), result.summary.string(), (o.out / "map.ply").string());
+  if (video) {
+    video->close();
+    const auto stats = video->stats();
+    const double frames = static_cast<double>(std::max<std::size_t>(1, stats.frames));
+    fmt::print("video:      {} ({} frames; per frame {:.1f} ms drawing, {:.1f} ms encoding, on its own thread)\n",
+               video->file().string(), stats.frames, stats.draw_ms / frames, stats.encode_ms / frames);
+    fmt::print("top-down:   {}\n", video->topdown_file().string());
+  }
   if (const auto& e = result.evaluation; !e.is_null()) {
     const auto rmse = [&](const char* key, const char* stats) -> std::string {
       if (!e.contains(key)) return "n/a";
@@ -124,6 +141,9 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--feature-cache", o->feature_cache,
                       "keep SuperPoint's features of every image in this folder and reuse them in later runs "
                       "(the same weights, detector settings and device)");
+       sub.add_option("--video", o->video,
+                      "write the frames with their keypoints, lines and tracking state to this video (.mp4 or "
+                      ".avi), and a top-down picture of the map beside it (<stem>_topdown.png)");
        vkvo::app::add_precision_option(sub, o->device);
        vkvo::app::add_device_option(sub, o->device);
        return std::function<int()>([o] { return run(*o); });

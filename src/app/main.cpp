@@ -1,8 +1,10 @@
 // vkvo: the command-line entry point. Subcommands live in cmd_*.cpp (see command.hpp).
 #include <algorithm>
+#include <cstdio>
 #include <exception>
 #include <memory>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "app/bench_registry.hpp"
@@ -44,7 +46,9 @@ int main(int argc, char** argv) {
     try {
       return action();
     } catch (const std::exception& e) {
-      spdlog::error("{}", e.what());
+      // On stderr, after what the command printed (spdlog's default logger writes to stdout).
+      std::fflush(stdout);
+      fmt::print(stderr, "vkvo {}: error: {}\n", sub->get_name(), e.what());
       return 1;
     }
   }

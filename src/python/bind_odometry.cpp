@@ -23,6 +23,7 @@
 #include "system/pipeline.hpp"
 #include "system/stereo_odometry.hpp"
 #include "tools/convert/model_locator.hpp"
+#include "viz/video_recorder.hpp"
 
 namespace vkvo::python {
 namespace {
@@ -233,32 +234,49 @@ class InterruptScope {
 
 py::dict run(const fs::path& config_file, const fs::path& dataset_path, const fs::path& out,
              std::optional<std::size_t> first, std::optional<long long> last, std::optional<std::size_t> stride,
-             const VoArguments& arguments, bool realtime, bool progress) {
+             const VoArguments& arguments, bool realtime, bool progress, const std::optional<fs::path>& video) {
   const system::VoConfig config = arguments.config(config_file);
   existing_path(dataset_path, "dataset");
   const io::DatasetOptions options = dataset_options(config, first, last, stride);
   InterruptScope interrupt;
   system::RunResult result;
+  std::optional<fs::path> video_file, topdown_file;
+  std::size_t video_frames = 0;
   {
     const py::gil_scoped_release release;
     const auto dataset = io::open_dataset(dataset_path, options);
+    std::optional<viz::VideoRecorder> recorder;  // opened before the networks load: a bad path fails at once
+    if (video) recorder.emplace(*video, viz::video_format(*dataset));
     const VoNetworks networks(config, arguments.device);
     system::RunOptions run_options;
     run_options.output_dir = out;
     run_options.realtime = realtime;
     run_options.progress = progress;
     run_options.stop = &InterruptScope::flag();
+    run_options.observer = recorder ? &*recorder : nullptr;
     run_options.extra_summary = {{"device", networks.context->caps().name},
                                  {"host", rt::host_cpu().describe()},
                                  {"matcher", networks.models.superglue ? "superglue" : "nn"},
                                  {"superpoint_model", networks.models.superpoint_file.pack.string()}};
     result = system::run_vo(*dataset, config, *networks.features, *networks.keyframes, run_options);
+    if (recorder) {
+      recorder->close();
+      video_file = recorder->file();
+      topdown_file = recorder->topdown_file();
+      video_frames = recorder->stats().frames;
+    }
   }
   if (interrupt.interrupted())
     raise(PyExc_KeyboardInterrupt, fmt::format("run stopped after {} frames; its "
                                                "outputs are in {}",
                                                result.frames, out.string()));
-  return run_summary(result);
+  py::dict summary = run_summary(result);
+  if (video_file) {
+    summary["video"] = *video_file;
+    summary["topdown"] = *topdown_file;
+    summary["video_frames"] = video_frames;
+  }
+  return summary;
 }
 
 VoArguments vo_arguments(const std::optional<fs::path>& model, const std::optional<fs::path>& superglue,
@@ -331,18 +349,20 @@ merge["into"]: every earlier pose of segment "from" maps into the world by merge
          std::optional<long long> last, std::optional<std::size_t> stride, const std::optional<fs::path>& model,
          const std::optional<fs::path>& superglue, const std::optional<std::string>& matcher,
          const std::optional<bool>& lines, const std::optional<std::string>& precision, const py::object& device,
-         bool realtime, bool progress) {
+         bool realtime, bool progress, const std::optional<fs::path>& video) {
         return run(config, dataset, out, first, last, stride,
-                   vo_arguments(model, superglue, matcher, lines, precision, device), realtime, progress);
+                   vo_arguments(model, superglue, matcher, lines, precision, device), realtime, progress, video);
       },
       py::arg("config"), py::arg("dataset"), py::arg("out"), py::kw_only(), py::arg("first") = py::none(),
       py::arg("last") = py::none(), py::arg("stride") = py::none(), py::arg("model") = py::none(),
       py::arg("superglue") = py::none(), py::arg("matcher") = py::none(), py::arg("lines") = py::none(),
       py::arg("precision") = py::none(), py::arg("device") = py::none(), py::arg("realtime") = false,
-      py::arg("progress") = true,
+      py::arg("progress") = true, py::arg("video") = py::none(),
       R"(The VO on a dataset folder, as `vkvo run`: writes trajectory.txt (TUM), keyframes.txt, map.ply and
 summary.json into `out` as it goes. first / last (inclusive; < 0: to the end) / stride select frames; the
-other keywords as for vkvo.Odometry. Returns the run's counts and output paths as a dict. Ctrl-C ends the
+other keywords as for vkvo.Odometry. video: a .mp4 or .avi file for the overlay video of the frames (as
+`vkvo run --video`; docs/video.md), with <stem>_topdown.png beside it. Returns the run's counts and output
+paths as a dict (with video: "video", "topdown", "video_frames"). Ctrl-C ends the
 run after the current frame, keeps its outputs and raises KeyboardInterrupt.)");
 }
 

@@ -148,6 +148,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
     result.timing.add(Module::Frame, since_last_output.ms());
     since_last_output = Stopwatch();
     progress.update(result.frames + unreadable + stream_counts->failed(), odometry.keyframes(), r);
+    if (options.observer) options.observer->frame(r);
   };
 
   {
@@ -192,7 +193,9 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   result.merges = odometry.merges();
   result.map_points = map.points().size();
   result.map_lines = map.lines().size();
-  io::write_map_ply(options.output_dir / "map.ply", map_geometry(map, centres));
+  const io::MapGeometry geometry = map_geometry(map, centres);
+  io::write_map_ply(options.output_dir / "map.ply", geometry);
+  if (options.observer) options.observer->finish(geometry);
   write_refined_keyframes(result.keyframes_refined_file, odometry, record);
   result.evaluation = evaluate_outputs(dataset, result);
 

@@ -13,11 +13,22 @@
 #include <nlohmann/json.hpp>
 
 #include "io/dataset.hpp"
+#include "io/map_ply.hpp"
 #include "system/point_frontend.hpp"
+#include "system/stereo_odometry.hpp"
 #include "system/timing.hpp"
 #include "system/vo_config.hpp"
 
 namespace vkvo::system {
+
+// Follows a run as it goes (viz::VideoRecorder): every processed frame, in order, on the optimisation thread (so
+// it must return quickly), then the final map once. A run that ends by an exception does not call finish.
+class RunObserver {
+ public:
+  virtual ~RunObserver() = default;
+  virtual void frame(const OdometryPose& pose) = 0;
+  virtual void finish(const io::MapGeometry& map) = 0;
+};
 
 struct RunOptions {
   // trajectory.txt, frames.csv, keyframes.txt, keyframes_refined.txt, map.ply, summary.json
@@ -26,6 +37,7 @@ struct RunOptions {
   bool progress = true;                     // progress bar on a terminal, log lines otherwise
   const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT) to end the run cleanly after the current frame
   nlohmann::json extra_summary;             // merged into summary.json (device, models, ...)
+  RunObserver* observer = nullptr;          // optional; must outlive the run
 };
 
 struct RunResult {

@@ -113,7 +113,9 @@ OdometryPose StereoOdometry::optimise(const FrameInput& in) {
   timing_.add(Module::PE, in.pe_ms);
   if (in.le_ms > 0) timing_.add(Module::LE, in.le_ms);
   if (in.pm_ms > 0) timing_.add(Module::PM, in.pm_ms);
-  const TrackResult r = tracker_.track(in, timing_);
+  TrackResult r = tracker_.track(in, timing_);
+  auto observations = std::make_shared<FrameObservations>(std::move(r.observations));
+  observations->left = in.left;
   return {.frame_index = in.index,
           .timestamp_ns = in.timestamp_ns,
           .T_world_camera = r.T_world_camera * T_rect_rawleft_,
@@ -125,7 +127,8 @@ OdometryPose StereoOdometry::optimise(const FrameInput& in) {
           .merge = r.merge,
           .tracked_points = r.tracked_points,
           .tracked_lines = r.tracked_lines,
-          .note = r.note};
+          .note = r.note,
+          .observations = std::move(observations)};
 }
 
 std::vector<std::pair<std::size_t, Eigen::Isometry3d>> StereoOdometry::refined_keyframes() const {

@@ -22,6 +22,7 @@
 #include "geometry/camera.hpp"
 #include "io/calibration.hpp"
 #include "system/frame_input.hpp"
+#include "system/frame_observations.hpp"
 #include "system/point_frontend.hpp"
 #include "system/timing.hpp"
 #include "system/tracker.hpp"
@@ -44,6 +45,8 @@ struct OdometryPose {
   std::optional<SegmentMerge> merge;
   int tracked_points = 0, tracked_lines = 0;
   std::string note;  // why no keyframe was made, or what relocalisation did
+  // The frame's rectified left image and the roles of its keypoints and lines (shared: copying a pose is cheap).
+  std::shared_ptr<const FrameObservations> observations;
 };
 
 class StereoOdometry {

@@ -26,6 +26,31 @@ std::string describe_sources(unsigned sources) {
   return text;
 }
 
+// The roles of the frame's features. `tracked_points` / `tracked_lines` are its landmark ids once its pose was
+// found, before a keyframe added new ones (empty: none); `map_matched` the keypoints matched to map points.
+FrameObservations observations_of(const map::Frame& frame, const std::vector<map::Id>& tracked_points,
+                                  const std::vector<map::Id>& tracked_lines, const std::vector<int>& map_matched) {
+  const auto has = [](const std::vector<map::Id>& ids, std::size_t i) {
+    return i < ids.size() && ids[i] != map::kInvalidId;
+  };
+  FrameObservations o;
+  o.keypoints = frame.keypoints;
+  o.roles.assign(frame.keypoints.size(), KeypointRole::unmatched);
+  for (const int i : map_matched) o.roles[static_cast<std::size_t>(i)] = KeypointRole::outlier;
+  for (std::size_t i = 0; i < o.roles.size(); ++i) {
+    if (has(tracked_points, i))
+      o.roles[i] = KeypointRole::inlier;
+    else if (has(frame.point_ids, i))
+      o.roles[i] = KeypointRole::new_point;
+  }
+  for (std::size_t l = 0; l < frame.lines.size(); ++l) {
+    o.lines.push_back(frame.lines[l].left);
+    o.line_roles.push_back(has(tracked_lines, l) ? LineRole::matched : LineRole::unmatched);
+  }
+  o.line_points = frame.line_points;
+  return o;
+}
+
 }  // namespace
 
 const char* to_string(FrameState state) {
@@ -113,6 +138,7 @@ TrackResult Tracker::initialise(const FrameInput& input, Tracked& current, Timin
   }
   result.segment = segment_;
   result.T_world_camera = current.frame.T_world_camera;
+  result.observations = observations_of(current.frame, {}, {}, {});
   T_world_last_ = result.T_world_camera;
   tracked_previous_ = result.tracked ? config_.keyframe.max_tracked : 0;
   frames_since_keyframe_ = 0;
@@ -175,6 +201,7 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
       if (!usable(p)) continue;
       point_matches.push_back({p->position, {current.frame.keypoints[i], -1.0}});
       point_of_match.emplace_back(static_cast<int>(i), id);
+      out.map_matched.push_back(static_cast<int>(i));
     }
     if (config_.tracking.use_lines && !current.frame.lines.empty() && !reference->lines.empty()) {
       const Stopwatch watch;
@@ -370,6 +397,8 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
     }
   }
 
+  // The frame's landmarks as tracking found them; a keyframe adds its new ones below.
+  const std::vector<map::Id> tracked_points = current.frame.point_ids, tracked_lines = current.frame.line_ids;
   const map::KeyFrame* last_keyframe = map_.keyframe(map_.last_keyframe_id());
   const backend::KeyframeDecisionInput decision{
       .T_world_last_keyframe = last_keyframe ? last_keyframe->T_world_camera : T_world_first_,
@@ -433,6 +462,7 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
 
   result.T_world_camera = current.frame.T_world_camera;
   result.segment = segment_;
+  result.observations = observations_of(current.frame, tracked_points, tracked_lines, reference.map_matched);
   // Only a pair of well-tracked frames gives a velocity; a frame after a loss moves from a predicted pose, and a
   // merge moves the world under the previous pose.
   const int min_tracked = config_.keyframe.min_tracked;

@@ -21,6 +21,7 @@
 #include "geometry/camera.hpp"
 #include "map/map.hpp"
 #include "system/frame_input.hpp"
+#include "system/frame_observations.hpp"
 #include "system/point_frontend.hpp"
 #include "system/relocaliser.hpp"
 #include "system/timing.hpp"
@@ -51,9 +52,10 @@ struct TrackResult {
   int segment = 0;           // the map segment whose world frame the pose is in
   std::optional<SegmentMerge> merge;
   int tracked_points = 0, tracked_lines = 0;
-  int matches = 0;         // point matches to the reference
-  bool rematched = false;  // the feature stage's reference was stale: matched again to the last keyframe
-  std::string note;        // why a tracked frame made no keyframe, or what relocalisation did (status file)
+  int matches = 0;                 // point matches to the reference
+  bool rematched = false;          // the feature stage's reference was stale: matched again to the last keyframe
+  std::string note;                // why a tracked frame made no keyframe, or what relocalisation did (status file)
+  FrameObservations observations;  // the roles of the frame's keypoints and lines (without the image)
 };
 
 // The keyframe the feature stage matches new frames against.
@@ -98,6 +100,7 @@ class Tracker {
     bool success = false;
     Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
     std::vector<std::pair<int, map::Id>> points, lines;  // inliers: feature of the frame -> landmark
+    std::vector<int> map_matched;                        // keypoints matched to a map point, inliers or not
     int point_inliers = 0, line_inliers = 0;
     int matches = 0, map_point_matches = 0;
     bool rematched = false, matched_previous_frame = false, used_pnp = false;

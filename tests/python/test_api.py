@@ -364,3 +364,16 @@ def test_dataset_reads_a_synthetic_sequence(cli, tmp_path):
     with pytest.raises(IndexError):
         dataset[3]
     assert len(vkvo.Dataset(sequence, first=1)) == 2
+
+
+def test_run_refuses_a_video_it_cannot_write_before_running(random_packs, cli, tmp_path):
+    sequence = tmp_path / "sequence"
+    subprocess.run([cli, "synth", "--out", str(sequence), "--preset", "default", "--frames", "2",
+                    "--no-default-events"], check=True, capture_output=True)
+    model = random_packs / "random_superpoint.vkvopack"
+    with pytest.raises(RuntimeError, match=r"video file .*clip\.mkv: unsupported extension '\.mkv'"):
+        vkvo.run(EUROC_CONFIG, sequence, tmp_path / "out", model=model, video=tmp_path / "clip.mkv")
+    (tmp_path / "taken").write_text("a file where the video's folder would be")
+    with pytest.raises(RuntimeError, match=r"video file .*taken/clip\.mp4: cannot create its folder"):
+        vkvo.run(EUROC_CONFIG, sequence, tmp_path / "out", model=model, video=tmp_path / "taken" / "clip.mp4")
+    assert not (tmp_path / "out").exists()  # the run never started

@@ -7,12 +7,17 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "common/test_support.hpp"
 #include "io/dataset.hpp"
 #include "io/trajectory.hpp"
 #include "system/oracle_frontend.hpp"
 #include "system/pipeline.hpp"
+#include "viz/overlay.hpp"
+#include "viz/topdown.hpp"
+#include "viz/video_recorder.hpp"
 
 namespace vkvo::system {
 namespace {
@@ -71,11 +76,12 @@ struct SyntheticRun {
         dir(test::temp_dir(tag)) {
     write_kitti_folder(scene, feature_oracle, frames, dir / "seq");
   }
-  RunResult run() {
+  RunResult run(RunObserver* observer = nullptr) {
     const auto dataset = io::open_dataset(dir / "seq");
     RunOptions options;
     options.output_dir = dir / "out";
     options.progress = false;
+    options.observer = observer;
     return run_vo(*dataset, points_only_config(), feature_oracle, stereo_oracle, options);
   }
 
@@ -129,6 +135,40 @@ TEST(Pipeline, BlackFramesAreBridgedOnceTrackingResumes) {
   expect_trajectory_near_truth(result.trajectory, scene, kFrames, 1e-2);
   std::ifstream summary_file(result.summary);
   EXPECT_EQ(nlohmann::json::parse(summary_file)["frames_bridged"], 3);
+}
+
+// --video: one video frame per processed frame, read back by OpenCV, and a top-down picture with the trajectory.
+TEST(Pipeline, VideoHasAFramePerProcessedFrameAndATopDownPicture) {
+  constexpr int kFrames = 12;
+  SyntheticRun synthetic(kFrames, 25, "pipeline_video");
+  const auto dataset = io::open_dataset(synthetic.dir / "seq");
+  const fs::path file = synthetic.dir / "video" / "run.mp4";
+  viz::VideoRecorder recorder(file, viz::video_format(*dataset), 2);
+  const auto result = synthetic.run(&recorder);
+  ASSERT_EQ(result.frames, static_cast<std::size_t>(kFrames));
+  EXPECT_EQ(recorder.stats().frames, result.frames);
+
+  cv::VideoCapture capture(file.string());
+  ASSERT_TRUE(capture.isOpened());
+  int frames = 0;
+  cv::Mat image, first;
+  while (capture.read(image))
+    if (frames++ == 0) first = image.clone();
+  EXPECT_EQ(frames, kFrames);
+  // The first frame starts the map: its keypoints are new map points, drawn in their colour (lossy encoding: near).
+  cv::Mat near_new;
+  cv::inRange(first, viz::colour::new_point - cv::Scalar::all(60), viz::colour::new_point + cv::Scalar::all(60),
+              near_new);
+  EXPECT_GT(cv::countNonZero(near_new), 100);
+
+  const cv::Mat topdown = cv::imread(recorder.topdown_file().string());
+  ASSERT_FALSE(topdown.empty()) << recorder.topdown_file();
+  cv::Mat trajectory;
+  cv::inRange(topdown, viz::topdown_colour::trajectory, viz::topdown_colour::trajectory, trajectory);
+  EXPECT_GT(cv::countNonZero(trajectory), 20);
+  cv::Mat points;
+  cv::inRange(topdown, viz::topdown_colour::point, viz::topdown_colour::point, points);
+  EXPECT_GT(cv::countNonZero(points), 100);
 }
 
 }  // namespace
