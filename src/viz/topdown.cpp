@@ -84,9 +84,11 @@ cv::Mat draw_topdown(const io::MapGeometry& map, cv::Size size) {
   const View view = fit_view(map, size);
   for (const auto& p : map.points) cv::circle(image, view(p), 1, topdown_colour::point, cv::FILLED);
   for (const auto& [a, b] : map.lines) cv::line(image, view(a), view(b), topdown_colour::line, 1);
+  // The start under the path, the path, then a ring at its end (a short path still shows both).
+  if (!map.trajectory.empty()) cv::circle(image, view(map.trajectory.front()), 5, topdown_colour::start, cv::FILLED);
   for (std::size_t i = 1; i < map.trajectory.size(); ++i)
     cv::line(image, view(map.trajectory[i - 1]), view(map.trajectory[i]), topdown_colour::trajectory, 2);
-  if (!map.trajectory.empty()) cv::circle(image, view(map.trajectory.front()), 5, topdown_colour::start, cv::FILLED);
+  if (!map.trajectory.empty()) cv::circle(image, view(map.trajectory.back()), 7, topdown_colour::trajectory, 2);
   cv::putText(image,
               fmt::format("top-down (x-z of the first camera): {} poses, {} map points, {} map lines",
                           map.trajectory.size(), map.points.size(), map.lines.size()),
