@@ -1,6 +1,8 @@
 // The optimisation stage on an exact synthetic stereo scene (oracle features, no GPU): initialisation, tracking,
 // keyframes, recovery from frames where nothing is seen, the motion prior through them, relocalisation and the
 // merge of a young map segment into the old map.
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "system/oracle_frontend.hpp"
@@ -72,6 +74,36 @@ TEST(Tracker, TracksAnExactSceneToMillimetresWithKeyframes) {
   // adds its stereo matching to PM.
   EXPECT_EQ(run.timing.stats(Module::PE).samples, static_cast<std::size_t>(keyframes));
   EXPECT_GE(run.timing.stats(Module::PM).samples, static_cast<std::size_t>(keyframes));
+}
+
+// What the overlay video draws: every keypoint's role after tracking. The first frame's stereo points are the new
+// map; later, the inliers are the tracked points, and only keyframes add new points.
+TEST(Tracker, ObservationsGiveEveryKeypointItsRole) {
+  OracleRun run(40, 500, 7, 0.0, 1);  // 0.6 m: the 0.5 m keyframe rule fires
+  const auto count = [](const FrameObservations& o, KeypointRole role) {
+    return static_cast<int>(std::count(o.roles.begin(), o.roles.end(), role));
+  };
+  int keyframes_seen = 0;
+  for (int f = 0; f < 40; ++f) {
+    const FrameInput in = run.input(f);
+    const auto r = run.track(in);
+    const FrameObservations& o = r.observations;
+    ASSERT_EQ(o.keypoints.size(), in.points.size()) << "frame " << f;
+    ASSERT_EQ(o.roles.size(), in.points.size()) << "frame " << f;
+    EXPECT_EQ(o.keypoints[0].cast<float>(), in.points.keypoints[0]) << "frame " << f;
+    EXPECT_EQ(count(o, KeypointRole::inlier), f == 0 ? 0 : r.tracked_points) << "frame " << f;
+    if (f == 0) {
+      EXPECT_EQ(count(o, KeypointRole::new_point), static_cast<int>(run.tracker.map().points().size()));
+      EXPECT_EQ(count(o, KeypointRole::outlier), 0);
+    } else if (r.keyframe) {
+      ++keyframes_seen;
+      EXPECT_GT(count(o, KeypointRole::new_point), 0) << "frame " << f;
+    } else {
+      EXPECT_EQ(count(o, KeypointRole::new_point), 0) << "frame " << f;
+    }
+    EXPECT_TRUE(o.lines.empty() && o.line_roles.empty());
+  }
+  EXPECT_GE(keyframes_seen, 1);
 }
 
 TEST(Tracker, NoisyKeypointsStayWithinCentimetres) {
