@@ -86,8 +86,8 @@ struct SuperPointNetwork {
   // it can take.
   std::optional<rt::WinogradConv3x3> winograd;
   DerivedLayerTensors winograd_filters;
-  // Set on CPU devices with the tiled kernels: the GEMM that runs the 1x1 layers on borderless planes, and their
-  // weights as O x I matrices at the storage precision.
+  // Set on CPU devices with the tiled kernels, and on tensor cores: the GEMM that runs the 1x1 layers on borderless
+  // planes, and their weights as O x I matrices at the storage precision.
   std::optional<rt::Gemm> conv1x1_gemm;
   DerivedLayerTensors conv1x1_matrices;
 };
