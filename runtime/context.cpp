@@ -459,6 +459,7 @@ void Context::run_once(const std::function<void(const vk::raii::CommandBuffer&)>
   record(cmd);
   cmd.end();
   const vk::CommandBuffer handle = *cmd;
+  ++submissions_;
   queue_.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &handle}, *fence);
   if (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess)
     throw VulkanError("waiting for a transfer failed");
@@ -468,6 +469,7 @@ void Context::submit_and_wait(vk::CommandBuffer commands, const vk::raii::Fence&
   device_.resetFences(*fence);
   {
     std::lock_guard lock(queue_mutex_);
+    ++submissions_;
     queue_.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &commands}, *fence);
   }
   if (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess)

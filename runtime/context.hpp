@@ -1,5 +1,6 @@
 #pragma once
 // Vulkan instance + device + compute queue, chosen once per process and shared by all kernels and buffers.
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -137,6 +138,10 @@ class Context {
   // Writes the pipeline cache to disk now (also done by the destructor).
   void save_pipeline_cache() const;
 
+  // Queue submissions made so far through this context (sequences, uploads, downloads): tests assert how many a
+  // network call costs.
+  std::uint64_t submission_count() const { return submissions_.load(); }
+
  private:
   vk::raii::Context loader_;
   vk::raii::Instance instance_{nullptr};
@@ -152,6 +157,7 @@ class Context {
   bool validation_enabled_ = false;
   std::filesystem::path cache_file_;
   mutable std::mutex queue_mutex_;  // guards queue_ and transfer_pool_
+  mutable std::atomic<std::uint64_t> submissions_{0};
 };
 
 }  // namespace vkvo::rt

@@ -254,6 +254,25 @@ TEST(SuperPointDiscreteMemory, SameFeaturesAsWithMappedBuffers) {
   }
 }
 
+// A call is one queue submission once its plan exists: the image is written into mapped memory and the outputs
+// are copied to the host by the recorded sequence, on a context used as a discrete GPU (staging) as on the mapped
+// one. Dense maps, asked for, are a transfer of their own.
+TEST(SuperPointSubmissions, OneQueueSubmissionPerCall) {
+  const rt::Context discrete({.use_unified_memory = false});
+  const auto pack = reference::random_superpoint_pack(3);
+  for (const rt::Context* context : {&static_cast<const rt::Context&>(gpu()), &discrete}) {
+    SCOPED_TRACE(context == &discrete ? "staged" : "mapped");
+    SuperPoint sp(*context, pack);
+    ASSERT_GT(sp.detect(random_image(101, 67, 4)).size(), 5u);  // builds the plan: buffers, weights, pipelines
+    for (std::uint32_t seed : {5u, 6u, 7u}) {
+      const cv::Mat image = random_image(101, 67, seed);
+      const std::uint64_t before = context->submission_count();
+      EXPECT_GT(sp.detect(image).size(), 5u);
+      EXPECT_EQ(context->submission_count() - before, 1u) << "image " << seed;
+    }
+  }
+}
+
 // A device without 16-bit features (here lavapipe created without them): `auto` runs fp32, an explicit fp16 or
 // fp16s is refused before any pipeline is built, with the device, the missing feature and the way out named.
 TEST(SuperPointErrors, DeviceWithout16BitFeatures) {

@@ -230,6 +230,10 @@ SuperPointPlan::SuperPointPlan(const rt::Context& ctx, const SuperPointNetwork& 
   descriptors_ =
       rt::Buffer(ctx, std::size_t(max_keypoints_) * dim_ * 4, rt::BufferKind::device, "superpoint.descriptors");
   image_.fill_zero();
+  counter_out_.emplace(ctx, counter_);
+  keypoints_out_.emplace(ctx, keypoints_);
+  scores_out_.emplace(ctx, scores_);
+  descriptors_out_.emplace(ctx, descriptors_);
   allocate_winograd_scratch();
   record();
 }
@@ -367,6 +371,7 @@ void SuperPointPlan::record() {
   seq_.dispatch(net_.sample, {candidates_, counter_, order_, dense_descriptors_, keypoints_, scores_, descriptors_},
                 SamplePush{cells_h_, cells_w_, dim_, capacity_, max_keypoints_}, {max_keypoints_},
                 "sample descriptors");
+  for (const auto* out : {&*counter_out_, &*keypoints_out_, &*scores_out_, &*descriptors_out_}) out->record(seq_);
   seq_.end();
 }
 
@@ -377,7 +382,7 @@ std::uint32_t SuperPointPlan::run(const std::uint8_t* pixels, std::size_t stride
     for (std::uint32_t y = 0; y < height_; ++y) image_.upload(pixels + y * stride, width_, std::size_t(y) * width_);
   }
   seq_.submit();
-  return counter_.download<std::uint32_t>(1)[0];
+  return counter_out_->read<std::uint32_t>(1)[0];
 }
 
 std::uint32_t SuperPointPlan::keypoint_count(std::uint32_t candidates) const {
@@ -393,9 +398,9 @@ void SuperPointPlan::download(std::uint32_t count, std::vector<float>& keypoints
   scores.clear();
   descriptors.clear();
   if (count == 0) return;
-  keypoints_xy = keypoints_.download<float>(std::size_t(count) * 2);
-  scores = scores_.download<float>(count);
-  descriptors = descriptors_.download<float>(std::size_t(count) * dim_);
+  keypoints_xy = keypoints_out_->read<float>(std::size_t(count) * 2);
+  scores = scores_out_->read<float>(count);
+  descriptors = descriptors_out_->read<float>(std::size_t(count) * dim_);
 }
 
 void SuperPointPlan::download_dense(std::vector<float>& scores, std::vector<float>& descriptors) const {
