@@ -31,6 +31,11 @@ inline constexpr CooperativeMatrixShape kCoopmatKernelShape{.m = 16,
                                                             .result = MatrixComponent::f32,
                                                             .scope = MatrixScope::subgroup};
 
+// What a workgroup of those kernels takes (shaders/include/coopmat_tile.glsl): four subgroups, and its staged tiles
+// of A (64 x 40 fp16), B (32 x 72 fp16) and D (64 x 68 fp32) in shared memory.
+inline constexpr std::uint32_t kCoopmatSubgroups = 4;
+inline constexpr std::uint32_t kCoopmatSharedBytes = 64 * 40 * 2 + 32 * 72 * 2 + 64 * 68 * 4;
+
 std::string_view to_string(MatrixComponent component);
 std::string_view to_string(MatrixScope scope);
 // "16x16x16 f16*f16+f32->f32 subgroup"

@@ -41,7 +41,8 @@ struct DeviceProfile {
   bool cooperative_matrix = false;
 };
 
-// Whether the tensor-core kernels can run on a device with these caps (the profile's cooperative_matrix).
+// Whether the tensor-core kernels can run on a device with these caps (the profile's cooperative_matrix): the
+// shape, 16-bit storage and arithmetic, and room for their workgroups (kCoopmatSubgroups, kCoopmatSharedBytes).
 bool supports_coopmat_kernels(const DeviceCaps& caps);
 
 DeviceProfile make_device_profile(const DeviceCaps& caps);

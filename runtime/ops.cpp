@@ -31,9 +31,8 @@ constexpr std::uint32_t kTiledConvChannels = 8, kTiledConvPixels = 4, kTiledConv
 constexpr std::uint32_t kPooledConvRows = 4;  // ROWS of conv3x3_maxpool_tiled.comp
 constexpr std::uint32_t kTiledConv1x1Pixels = 8;
 
-// The block of the output each workgroup of the tensor-core kernels computes (shaders/include/coopmat_tile.glsl),
-// and its four subgroups.
-constexpr std::uint32_t kCoopmatBlock = 64, kCoopmatSubgroups = 4;
+// The block of the output each workgroup of the tensor-core kernels computes (shaders/include/coopmat_tile.glsl).
+constexpr std::uint32_t kCoopmatBlock = 64;
 
 KernelSpec coopmat_spec(const Context& context, Op op, Precision precision) {
   return {.op = op, .precision = precision, .specialization = {kCoopmatSubgroups * context.caps().subgroup_size}};

@@ -49,6 +49,7 @@ void expect_choices(const DeviceProfile& profile, const DeviceProfile& expected)
 // An H200 as VK_NV_cooperative_matrix describes it: the kernels' shape among others.
 DeviceCaps h200_with_tensor_cores() {
   DeviceCaps caps = h200();
+  caps.max_workgroup_invocations = 1024;
   caps.cooperative_matrix = CooperativeMatrixApi::nv;
   caps.vulkan_memory_model = true;
   CooperativeMatrixShape fp16_result = kCoopmatKernelShape;
@@ -138,6 +139,16 @@ TEST(DeviceProfile, NoTensorCoresWithoutTheExtensionOrSixteenBitTypes) {
   no_api.cooperative_matrix = CooperativeMatrixApi::none;  // shapes listed, but the feature or memory model missing
   EXPECT_FALSE(make_device_profile(no_api).cooperative_matrix);
   EXPECT_FALSE(make_device_profile(effective_caps(h200_with_tensor_cores(), {.use_16bit = false})).cooperative_matrix);
+}
+
+// The kernels' workgroups: four subgroups and 26.5 KiB of shared memory.
+TEST(DeviceProfile, NoTensorCoresWithoutRoomForTheirWorkgroups) {
+  DeviceCaps small_shared = h200_with_tensor_cores(), small_groups = h200_with_tensor_cores();
+  small_shared.max_shared_memory_bytes = 16384;
+  small_groups.max_workgroup_invocations = 64;
+  EXPECT_FALSE(make_device_profile(small_shared).cooperative_matrix);
+  EXPECT_FALSE(make_device_profile(small_groups).cooperative_matrix);
+  EXPECT_EQ(kCoopmatSharedBytes, 27136u);
 }
 
 TEST(DeviceProfile, CooperativeMatrixOffSwitch) {
