@@ -11,7 +11,7 @@
 #   fp16  : fp16 storage, fp16 math with fp32 accumulation where the op needs it
 set(VKVO_ALL_PRECISIONS fp32 fp16s fp16)
 # Device features a variant may need beyond what every Vulkan 1.1 device has (runtime/shader_registry.hpp).
-set(VKVO_SHADER_FEATURES int64)
+set(VKVO_SHADER_FEATURES int64 cooperative_matrix)
 
 # vkvo_shader(<op> [SOURCE <file.comp>] [DEFINES <NAME=VALUE>...] [PUSH <Struct>] [PRECISIONS <precision>...]
 #             [REQUIRES <feature>])

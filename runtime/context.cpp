@@ -60,6 +60,54 @@ bool has_extension(const vk::raii::PhysicalDevice& device, const char* name) {
   return false;
 }
 
+MatrixComponent matrix_component(vk::ComponentTypeNV type) {
+  switch (type) {
+    case vk::ComponentTypeNV::eFloat16: return MatrixComponent::f16;
+    case vk::ComponentTypeNV::eFloat32: return MatrixComponent::f32;
+    case vk::ComponentTypeNV::eFloat64: return MatrixComponent::f64;
+    case vk::ComponentTypeNV::eSint8: return MatrixComponent::s8;
+    case vk::ComponentTypeNV::eSint16: return MatrixComponent::s16;
+    case vk::ComponentTypeNV::eSint32: return MatrixComponent::s32;
+    case vk::ComponentTypeNV::eSint64: return MatrixComponent::s64;
+    case vk::ComponentTypeNV::eUint8: return MatrixComponent::u8;
+    case vk::ComponentTypeNV::eUint16: return MatrixComponent::u16;
+    case vk::ComponentTypeNV::eUint32: return MatrixComponent::u32;
+    case vk::ComponentTypeNV::eUint64: return MatrixComponent::u64;
+    default: return MatrixComponent::other;
+  }
+}
+
+MatrixScope matrix_scope(vk::ScopeNV scope) {
+  switch (scope) {
+    case vk::ScopeNV::eDevice: return MatrixScope::device;
+    case vk::ScopeNV::eWorkgroup: return MatrixScope::workgroup;
+    case vk::ScopeNV::eSubgroup: return MatrixScope::subgroup;
+    case vk::ScopeNV::eQueueFamily: return MatrixScope::queue_family;
+    default: return MatrixScope::other;
+  }
+}
+
+// VK_NV_cooperative_matrix: its feature, the memory model its shaders declare, and the shapes it reports.
+void query_cooperative_matrix(const vk::raii::PhysicalDevice& device, bool api12, DeviceCaps& caps) {
+  if (api12 || has_extension(device, VK_KHR_VULKAN_MEMORY_MODEL_EXTENSION_NAME)) {
+    auto f = device.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceVulkanMemoryModelFeatures>();
+    caps.vulkan_memory_model = f.get<vk::PhysicalDeviceVulkanMemoryModelFeatures>().vulkanMemoryModel;
+  }
+  if (!has_extension(device, VK_NV_COOPERATIVE_MATRIX_EXTENSION_NAME)) return;
+  auto f = device.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceCooperativeMatrixFeaturesNV>();
+  if (!f.get<vk::PhysicalDeviceCooperativeMatrixFeaturesNV>().cooperativeMatrix || !caps.vulkan_memory_model) return;
+  caps.cooperative_matrix = CooperativeMatrixApi::nv;
+  for (const auto& p : device.getCooperativeMatrixPropertiesNV())
+    caps.cooperative_matrix_shapes.push_back({.m = p.MSize,
+                                              .n = p.NSize,
+                                              .k = p.KSize,
+                                              .a = matrix_component(p.AType),
+                                              .b = matrix_component(p.BType),
+                                              .c = matrix_component(p.CType),
+                                              .result = matrix_component(p.DType),
+                                              .scope = matrix_scope(p.scope)});
+}
+
 std::optional<std::uint32_t> compute_queue_family(const vk::raii::PhysicalDevice& device) {
   const auto families = device.getQueueFamilyProperties();
   // Prefer a compute queue without graphics (dedicated compute engines run beside rendering), else any.
@@ -116,6 +164,8 @@ DeviceCaps query_caps(const vk::raii::PhysicalDevice& device, std::uint32_t inde
     const auto& d = driver.get<vk::PhysicalDeviceDriverProperties>();
     caps.driver = fmt::format("{} {}", d.driverName.data(), d.driverInfo.data());
   }
+
+  query_cooperative_matrix(device, api12, caps);
 
   if (const auto family = compute_queue_family(device)) {
     caps.timestamps =
@@ -238,6 +288,23 @@ auto guarded(const char* what, F&& f) {
 
 }  // namespace
 
+bool DeviceCaps::has_cooperative_matrix_shape(const CooperativeMatrixShape& shape) const {
+  return cooperative_matrix != CooperativeMatrixApi::none &&
+         std::find(cooperative_matrix_shapes.begin(), cooperative_matrix_shapes.end(), shape) !=
+             cooperative_matrix_shapes.end();
+}
+
+DeviceCaps effective_caps(DeviceCaps caps, const ContextOptions& options) {
+  if (!options.use_16bit) caps.storage_16bit = caps.float16_arithmetic = false;
+  if (!options.use_int64) caps.int64 = false;
+  if (!options.use_unified_memory) caps.unified_memory = false;
+  if (!options.cooperative_matrix.value_or(env_or_empty("VKVO_COOPERATIVE_MATRIX") != "0")) {
+    caps.cooperative_matrix = CooperativeMatrixApi::none;
+    caps.cooperative_matrix_shapes.clear();
+  }
+  return caps;
+}
+
 bool DeviceCaps::supports(Precision p) const {
   switch (p) {
     case Precision::fp32: return true;
@@ -284,10 +351,7 @@ Context::Context(const ContextOptions& options)
   const auto devices = guarded("enumerating Vulkan devices", [&] { return list_devices_of(instance_); });
   const std::string selector = options.device.empty() ? env_or_empty("VKVO_DEVICE") : options.device;
   const std::uint32_t chosen = choose_device(devices, selector);
-  caps_ = devices[chosen];
-  if (!options.use_16bit) caps_.storage_16bit = caps_.float16_arithmetic = false;
-  if (!options.use_int64) caps_.int64 = false;
-  if (!options.use_unified_memory) caps_.unified_memory = false;
+  caps_ = effective_caps(devices[chosen], options);
   profile_ = make_device_profile(caps_);
   physical_device_ = std::move(vk::raii::PhysicalDevices(instance_)[chosen]);
   if (caps_.api_version < VK_API_VERSION_1_1)
@@ -311,7 +375,19 @@ Context::Context(const ContextOptions& options)
                                                                 ? static_cast<void*>(&f16i8)
                                                                 : (caps_.storage_8bit ? &storage8 : nullptr),
                                                    .storageBuffer16BitAccess = caps_.storage_16bit};
-  vk::PhysicalDeviceFeatures2 features2{.pNext = &storage16, .features = {.shaderInt64 = caps_.int64}};
+  // Cooperative matrices where the caps keep them (effective_caps): the extension, its feature and the Vulkan
+  // memory model their shaders declare.
+  const bool cooperative = caps_.cooperative_matrix == CooperativeMatrixApi::nv;
+  vk::PhysicalDeviceVulkanMemoryModelFeatures memory_model{.pNext = &storage16, .vulkanMemoryModel = VK_TRUE};
+  vk::PhysicalDeviceCooperativeMatrixFeaturesNV cooperative_matrix{.pNext = &memory_model,
+                                                                   .cooperativeMatrix = VK_TRUE};
+  if (cooperative) {
+    extensions.push_back(VK_NV_COOPERATIVE_MATRIX_EXTENSION_NAME);
+    if (has_extension(physical_device_, VK_KHR_VULKAN_MEMORY_MODEL_EXTENSION_NAME))
+      extensions.push_back(VK_KHR_VULKAN_MEMORY_MODEL_EXTENSION_NAME);
+  }
+  vk::PhysicalDeviceFeatures2 features2{.pNext = cooperative ? static_cast<void*>(&cooperative_matrix) : &storage16,
+                                        .features = {.shaderInt64 = caps_.int64}};
   const float priority = 1.0f;
   const vk::DeviceQueueCreateInfo queue_info{
       .queueFamilyIndex = queue_family_, .queueCount = 1, .pQueuePriorities = &priority};
@@ -383,6 +459,7 @@ void Context::run_once(const std::function<void(const vk::raii::CommandBuffer&)>
   record(cmd);
   cmd.end();
   const vk::CommandBuffer handle = *cmd;
+  ++submissions_;
   queue_.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &handle}, *fence);
   if (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess)
     throw VulkanError("waiting for a transfer failed");
@@ -392,6 +469,7 @@ void Context::submit_and_wait(vk::CommandBuffer commands, const vk::raii::Fence&
   device_.resetFences(*fence);
   {
     std::lock_guard lock(queue_mutex_);
+    ++submissions_;
     queue_.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &commands}, *fence);
   }
   if (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess)

@@ -1,5 +1,6 @@
 #pragma once
 // Vulkan instance + device + compute queue, chosen once per process and shared by all kernels and buffers.
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -13,6 +14,7 @@
 
 #include <vulkan/vulkan_raii.hpp>
 
+#include "runtime/cooperative_matrix.hpp"
 #include "runtime/device_profile.hpp"
 #include "runtime/precision.hpp"
 
@@ -55,8 +57,14 @@ struct DeviceCaps {
   std::uint32_t max_texel_buffer_elements = 0;
   std::uint64_t min_texel_buffer_offset_alignment = 1;
   std::vector<MemoryHeap> heaps;
+  // Which extension runs cooperative matrices here (none unless the device has both its feature and
+  // vulkanMemoryModel, which the SPIR-V of every cooperative-matrix shader declares), and the shapes it reports.
+  CooperativeMatrixApi cooperative_matrix = CooperativeMatrixApi::none;
+  bool vulkan_memory_model = false;
+  std::vector<CooperativeMatrixShape> cooperative_matrix_shapes;
 
   bool supports(Precision p) const;
+  bool has_cooperative_matrix_shape(const CooperativeMatrixShape& shape) const;
   // Throws std::runtime_error unless the device supports `p`, naming `user` (e.g. "SuperPoint"), the device, the
   // feature it lacks and the precisions it has.
   void require(Precision p, std::string_view user) const;
@@ -82,7 +90,14 @@ struct ContextOptions {
   // false: buffers are used as on a discrete GPU even where the device's memory is unified (lavapipe): shaders'
   // buffers are not mapped and every host transfer goes through a staging buffer. To test that path on any device.
   bool use_unified_memory = true;
+  // false: the device is created without its cooperative-matrix extension, so the profile keeps every GEMM and
+  // convolution on the SIMT kernels. nullopt: on unless $VKVO_COOPERATIVE_MATRIX=0. To compare both paths.
+  std::optional<bool> cooperative_matrix;
 };
+
+// The caps a Context made with `options` works with: `device`'s, less what the options switch off (16-bit types,
+// int64, unified memory, cooperative matrices; cooperative_matrix as resolved from the environment).
+DeviceCaps effective_caps(DeviceCaps device, const ContextOptions& options);
 
 // Lists every Vulkan device (throws VulkanError naming the cause when there is no loader, driver or device).
 std::vector<DeviceCaps> list_devices();
@@ -123,6 +138,10 @@ class Context {
   // Writes the pipeline cache to disk now (also done by the destructor).
   void save_pipeline_cache() const;
 
+  // Queue submissions made so far through this context (sequences, uploads, downloads): tests assert how many a
+  // network call costs.
+  std::uint64_t submission_count() const { return submissions_.load(); }
+
  private:
   vk::raii::Context loader_;
   vk::raii::Instance instance_{nullptr};
@@ -138,6 +157,7 @@ class Context {
   bool validation_enabled_ = false;
   std::filesystem::path cache_file_;
   mutable std::mutex queue_mutex_;  // guards queue_ and transfer_pool_
+  mutable std::atomic<std::uint64_t> submissions_{0};
 };
 
 }  // namespace vkvo::rt

@@ -4,8 +4,15 @@
 
 namespace vkvo::rt {
 
+bool supports_coopmat_kernels(const DeviceCaps& caps) {
+  return caps.has_cooperative_matrix_shape(kCoopmatKernelShape) && caps.supports(Precision::fp16) &&
+         caps.subgroup_size > 0 && kCoopmatSubgroups * caps.subgroup_size <= caps.max_workgroup_invocations &&
+         kCoopmatSharedBytes <= caps.max_shared_memory_bytes;
+}
+
 DeviceProfile make_device_profile(const DeviceCaps& caps) {
   DeviceProfile profile;
+  profile.cooperative_matrix = supports_coopmat_kernels(caps);
   if (caps.type == "cpu") {
     profile.precision = Precision::fp32;
     profile.wide_gemm_tile = true;

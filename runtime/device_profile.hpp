@@ -34,7 +34,16 @@ struct DeviceProfile {
   // every iteration in one workgroup (superglue_sinkhorn_fused) while Z has at most this many entries (0: never).
   bool sinkhorn_workgroup_per_line = false;
   std::size_t fused_sinkhorn_max_cells = 0;
+  // Tensor cores: GEMMs and SuperPoint's 3x3 layers run the cooperative-matrix kernels (gemm_coopmat,
+  // conv3x3_coopmat: fp16 operands, fp32 accumulation) at the 16-bit storage precisions. Only where the device
+  // reports kCoopmatKernelShape with 16-bit storage and arithmetic, and VKVO_COOPERATIVE_MATRIX is not 0
+  // (effective_caps); docs/tensor-cores.md.
+  bool cooperative_matrix = false;
 };
+
+// Whether the tensor-core kernels can run on a device with these caps (the profile's cooperative_matrix): the
+// shape, 16-bit storage and arithmetic, and room for their workgroups (kCoopmatSubgroups, kCoopmatSharedBytes).
+bool supports_coopmat_kernels(const DeviceCaps& caps);
 
 DeviceProfile make_device_profile(const DeviceCaps& caps);
 

@@ -16,6 +16,11 @@ const EmbeddedShader& checked_shader(const Context& context, const KernelSpec& s
   if (op_info(spec.op).feature == ShaderFeature::int64 && !context.caps().int64)
     throw VulkanError(fmt::format("shader {} needs shaderInt64, which device '{}' lacks (or was created without)", name,
                                   context.caps().name));
+  if (op_info(spec.op).feature == ShaderFeature::cooperative_matrix && !supports_coopmat_kernels(context.caps()))
+    throw VulkanError(
+        fmt::format("shader {} needs cooperative matrices of shape {} and 16-bit types, which device "
+                    "'{}' lacks (or was created without: VKVO_COOPERATIVE_MATRIX=0)",
+                    name, to_string(kCoopmatKernelShape), context.caps().name));
   const ShaderInterface& interface = *shader.interface;
   if (spec.specialization.size() > interface.specialization_constants)
     throw VulkanError(fmt::format("shader {} declares {} specialization constants, {} given", name,

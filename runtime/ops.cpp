@@ -31,7 +31,27 @@ constexpr std::uint32_t kTiledConvChannels = 8, kTiledConvPixels = 4, kTiledConv
 constexpr std::uint32_t kPooledConvRows = 4;  // ROWS of conv3x3_maxpool_tiled.comp
 constexpr std::uint32_t kTiledConv1x1Pixels = 8;
 
+// The block of the output each workgroup of the tensor-core kernels computes (shaders/include/coopmat_tile.glsl).
+constexpr std::uint32_t kCoopmatBlock = 64;
+
+KernelSpec coopmat_spec(const Context& context, Op op, Precision precision) {
+  return {.op = op, .precision = precision, .specialization = {kCoopmatSubgroups * context.caps().subgroup_size}};
+}
+
+// The tensor-core kernel for `op` if `choice` asks for it, or `automatic` does on this device.
+template <class Choice>
+std::optional<Kernel> coopmat_kernel(const Context& context, Op op, Precision precision, Choice choice) {
+  if (choice != Choice::cooperative_matrix &&
+      (choice != Choice::automatic || !use_cooperative_matrix(context, precision)))
+    return std::nullopt;
+  return Kernel(context, coopmat_spec(context, op, precision));  // throws naming what the device lacks
+}
+
 }  // namespace
+
+bool use_cooperative_matrix(const Context& context, Precision precision) {
+  return context.profile().cooperative_matrix && precision != Precision::fp32;
+}
 
 bool tiled_kernels_available(const Context& context, Precision precision) {
   return context.supports_uniform_texel_format(activation_texel_format(precision)) &&
@@ -43,7 +63,7 @@ bool tiled_kernels_available(const Context& context, Precision precision) {
 namespace {
 
 bool use_tiled_conv(const Context& context, Precision precision, std::uint32_t kernel_size, Conv3x3Kernel choice) {
-  if (kernel_size != 3 || choice == Conv3x3Kernel::direct) return false;
+  if (kernel_size != 3 || choice == Conv3x3Kernel::direct || choice == Conv3x3Kernel::cooperative_matrix) return false;
   const bool available = tiled_kernels_available(context, precision);
   if (choice == Conv3x3Kernel::tiled && !available)
     throw std::invalid_argument(
@@ -110,6 +130,9 @@ Conv2d::Conv2d(const Context& context, Precision precision, std::uint32_t kernel
       tiled_(use_tiled_conv(context, precision, kernel_size, choice)),
       max_texel_elements_(context.caps().max_texel_buffer_elements),
       kernel_(context, conv_spec(precision, kernel_size, tiled_)) {
+  if (kernel_size == 3) coopmat_ = coopmat_kernel(context, Op::conv3x3_coopmat, precision, choice);
+  if (kernel_size == 1 && choice == Conv3x3Kernel::cooperative_matrix)
+    throw std::invalid_argument("Conv2d: the cooperative-matrix kernel is a 3x3 convolution");
   if (kernel_size == 1 && choice != Conv3x3Kernel::direct && tiled_kernels_available(context, precision))
     tiled_1x1_.emplace(context, KernelSpec{.op = Op::conv1x1_tiled,
                                            .precision = precision,
@@ -132,6 +155,14 @@ void Conv2d::record(Sequence& seq, const Buffer& input, const ActivationShape& i
   const std::uint32_t blocks = (out.channels + 3) / 4;
   if (kernel_size_ == 3) {
     const Conv3x3Push push{in.channels, out.channels, in.height, in.width, out.pad, relu ? 1u : 0u};
+    if (coopmat_) {
+      if (in.pad != 1) throw std::invalid_argument("Conv2d 3x3: the input needs a 1-pixel zero border");
+      seq.dispatch(
+          *coopmat_, {input, weights, bias, output}, push,
+          {groups_for(std::size_t(in.height) * in.width, kCoopmatBlock), groups_for(out.channels, kCoopmatBlock)},
+          label.empty() ? fmt::format("conv3x3 {}->{}", in.channels, out.channels) : std::move(label));
+      return;
+    }
     if (tiled_)
       check_tiled_conv_input(in, max_texel_elements_);
     else if (in.pad != 1)
@@ -188,6 +219,8 @@ Gemm::Gemm(const Context& context, Precision precision, GemmKernel choice)
       max_texel_elements_(context.caps().max_texel_buffer_elements),
       elements_per_texel_(values_per_packed_texel(precision)),
       dummy_bias_(context, 16, BufferKind::device, "gemm.no_bias") {
+  coopmat_ = coopmat_kernel(context, Op::gemm_coopmat, precision, choice);
+  if (coopmat_) return;
   const vk::Format texel = packed_texel_format(precision);
   const bool available = context.supports_uniform_texel_format(texel);
   if ((choice == GemmKernel::tiled || choice == GemmKernel::tiled_wide) && !available)
@@ -243,7 +276,7 @@ std::uint32_t leading_c(const GemmShape& s) { return s.ldc ? s.ldc : s.n; }
 }  // namespace
 
 bool Gemm::uses_tiled_kernel(const GemmShape& s, const Binding& a, const Binding& b) const {
-  if (!tiled_) return false;
+  if (!tiled_ || coopmat_) return false;
   // Texel views start at the binding offsets (256 bytes satisfies every device's texel offset alignment) and
   // must stay within the device's texel count; A is read along K, B along K (B^T) or N, a whole texel at a time.
   // 16-bit texels hold 8 columns of B: N must fill them (the kernel clamps a tile's columns to the last whole texel).
@@ -276,7 +309,10 @@ void Gemm::record(Sequence& seq, const Binding& a, const Binding& b, const Bindi
   const bool tiled = uses_tiled_kernel(s, a, b);
   const Kernel* kernel = &kernel_;
   Groups groups;
-  if (tiled) {
+  if (coopmat_) {
+    kernel = &*coopmat_;
+    groups = {groups_for(s.n, kCoopmatBlock), groups_for(s.m, kCoopmatBlock), s.batch};
+  } else if (tiled) {
     const bool vec4_store = c.offset % 16 == 0 && multiples_of_4({s.n, ldc, s.c_offset, s.c_batch_stride});
     kernel = &tiled_kernel(vec4_store, s.accumulate,
                            !bias            ? kGemmNoBias

@@ -54,8 +54,14 @@ std::size_t activation_bytes(const ActivationShape& shape, Precision precision);
 // Which shader runs a 3x3 convolution: `tiled` (conv3x3_tiled.comp: 8 output channels x 4 pixels x 3 rows per
 // invocation, operands read through texel buffers) where the device reads the texel formats it needs
 // (tiled_kernels_available), else `direct` (conv3x3.comp: 4 x 3, storage-buffer loads). Both read the same
-// weight layout. `direct` also keeps 1x1 convolutions on conv1x1.comp.
-enum class Conv3x3Kernel { automatic, direct, tiled };
+// weight layout. `direct` also keeps 1x1 convolutions on conv1x1.comp. `cooperative_matrix` (conv3x3_coopmat.comp:
+// an implicit GEMM on tensor cores, fp16 x fp16 -> fp32) is what `automatic` runs at the 16-bit storage precisions
+// where DeviceProfile::cooperative_matrix (uses_cooperative_matrix).
+enum class Conv3x3Kernel { automatic, direct, tiled, cooperative_matrix };
+
+// Whether `automatic` runs the tensor-core kernels for operands stored at `precision` on this device: the profile's
+// cooperative_matrix, at fp16s or fp16 (they round their operands to fp16, which fp32 is asked for to avoid).
+bool use_cooperative_matrix(const Context& context, Precision precision);
 
 // Whether the device reads the uniform texel buffer formats of the tiled convolution and GEMM kernels at this
 // storage precision (one activation value per texel, 4 weights per texel, 4 fp32 or 8 fp16 GEMM operands).
@@ -70,6 +76,8 @@ class Conv2d {
   // channels, else conv1x1.comp: uses_tiled_kernel(in) says which for an input.
   bool uses_tiled_kernel() const { return tiled_; }
   bool uses_tiled_kernel(const ActivationShape& in) const;
+  // 3x3: whether conv3x3_coopmat.comp runs (tensor cores).
+  bool uses_cooperative_matrix() const { return coopmat_.has_value(); }
   void record(Sequence& seq, const Buffer& input, const ActivationShape& in, const Binding& weights,
               const Binding& bias, const Buffer& output, const ActivationShape& out, bool relu,
               std::string label = {}) const;
@@ -83,6 +91,7 @@ class Conv2d {
   std::size_t max_texel_elements_;
   Kernel kernel_;
   std::optional<Kernel> tiled_1x1_;
+  std::optional<Kernel> coopmat_;
 };
 
 // 3x3 convolution + bias (+ ReLU) followed by a 2x2 max-pool (floor semantics), in one pass
@@ -132,7 +141,9 @@ struct GemmShape {
 // elements) serves the calls whose operands are aligned to whole texels (uses_tiled_kernel) where the device
 // reads the texel format; `direct` (gemm.comp) serves every other call and device. `tiled_wide`
 // (gemm_tiled_wide) is the same with 8 x 16 blocks, which `automatic` picks where DeviceProfile::wide_gemm_tile.
-enum class GemmKernel { automatic, direct, tiled, tiled_wide };
+// `cooperative_matrix` (gemm_coopmat.comp: 64 x 64 blocks on tensor cores, fp16 x fp16 -> fp32, any alignment)
+// serves every call; `automatic` picks it where use_cooperative_matrix.
+enum class GemmKernel { automatic, direct, tiled, tiled_wide, cooperative_matrix };
 
 // Rows and columns of C per invocation of the tiled kernel; a workgroup spans `cols` columns.
 struct TiledGemmTile {
@@ -146,6 +157,8 @@ class Gemm {
   ~Gemm();
   // Whether a call with this shape and these bindings runs the tiled kernel.
   bool uses_tiled_kernel(const GemmShape& shape, const Binding& a, const Binding& b) const;
+  // Whether every call runs gemm_coopmat.comp (tensor cores).
+  bool uses_cooperative_matrix() const { return coopmat_.has_value(); }
   // `bias` (N floats, fp32; M with GemmShape::bias_per_row) may be null.
   void record(Sequence& seq, const Buffer& a, const Buffer& b, const Buffer* bias, const Buffer& c,
               const GemmShape& shape, std::string label = {}) const;
@@ -164,6 +177,7 @@ class Gemm {
   const Kernel& tiled_kernel(bool vec4_store, bool accumulate, std::uint32_t bias_per) const;
 
   Kernel kernel_;
+  std::optional<Kernel> coopmat_;
   std::unique_ptr<TiledVariants> tiled_;  // null where the device cannot read the operands as texels
   TiledGemmTile tile_;
   std::size_t max_texel_elements_;

@@ -16,7 +16,8 @@ namespace vkvo::rt {
 // Device features a shader variant may need beyond what every Vulkan 1.1 device has (the table's REQUIRES).
 enum class ShaderFeature : std::uint8_t {
   none,
-  int64,  // shaderInt64 (DeviceCaps::int64)
+  int64,               // shaderInt64 (DeviceCaps::int64)
+  cooperative_matrix,  // the tensor-core kernels' shape (supports_coopmat_kernels, DeviceProfile::cooperative_matrix)
 };
 
 struct OpInfo {

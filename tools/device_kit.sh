@@ -2,7 +2,8 @@
 # Packs what a run on another Linux x86-64 machine without Debian's libraries needs (a GPU machine of a CUDA image,
 # say) into .devkit/ (git-ignored): the stripped `vkvo`, the data-free GPU test suites (runtime, SuperPoint and
 # SuperGlue against their C++ references, where the build has them), the shared libraries these load but glibc's
-# and the C++ runtime's, and the SuperPoint pack; tools/device_check.sh runs from there.
+# and the C++ runtime's, and the SuperPoint pack; tools/device_check.sh runs from there. The golden-data suites
+# (superpoint_data, superglue_data) come too: they run on the device where its checkout has the data (shared/).
 #
 #   tools/device_kit.sh [BUILD_DIR]      (default build/; needs the shared data for the packs)
 #
@@ -41,7 +42,7 @@ cp -L "$LIBDIR/blas/libblas.so.3" "$LIBDIR/lapack/liblapack.so.3" "$stage/lib/"
 
 # The rest of the closure, resolved with the stubs and reference BLAS in front; vkvo loads the Vulkan loader itself.
 cp "$VKVO" "$stage/bin/vkvo"
-for suite in runtime superpoint superglue; do
+for suite in runtime superpoint superglue superpoint_data superglue_data; do
   [ -x "$BUILD_DIR/tests/vkvo_test_$suite" ] && cp "$BUILD_DIR/tests/vkvo_test_$suite" "$stage/bin/"
 done
 strip "$stage"/bin/*

@@ -37,6 +37,18 @@ int list_all() {
     for (std::size_t h = 0; h < d.heaps.size(); ++h)
       fmt::print("    heap {}: {:.1f} GiB{}\n", h, double(d.heaps[h].bytes) / (1 << 30),
                  d.heaps[h].device_local ? " device-local" : "");
+    if (d.cooperative_matrix_shapes.empty()) {
+      fmt::print("    cooperative matrix shapes: none\n");
+    } else {
+      fmt::print("    cooperative matrix shapes (VK_NV_cooperative_matrix), A*B+C->D:\n");
+      for (const auto& shape : d.cooperative_matrix_shapes) fmt::print("      {}\n", vkvo::rt::to_string(shape));
+    }
+    const bool tensor_cores = vkvo::rt::make_device_profile(vkvo::rt::effective_caps(d, {})).cooperative_matrix;
+    fmt::print("    tensor-core kernels: {}\n", tensor_cores ? "yes (VKVO_COOPERATIVE_MATRIX=0 turns them off)"
+                                                : vkvo::rt::supports_coopmat_kernels(d)
+                                                    ? "no (VKVO_COOPERATIVE_MATRIX=0)"
+                                                    : fmt::format("no (they need the shape {} and 16-bit types)",
+                                                                  vkvo::rt::to_string(vkvo::rt::kCoopmatKernelShape)));
     std::string precisions;
     for (auto p : vkvo::rt::kAllPrecisions)
       if (d.supports(p)) precisions += fmt::format(" {}", vkvo::rt::to_string(p));

@@ -69,11 +69,16 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
   // available; the direct one is the fallback), so the gain of one over the other is measured, not assumed.
   std::vector<rt::Conv3x3Kernel> kernels3x3{rt::Conv3x3Kernel::direct};
   if (rt::tiled_kernels_available(ctx, precision)) kernels3x3.insert(kernels3x3.begin(), rt::Conv3x3Kernel::tiled);
+  if (rt::use_cooperative_matrix(ctx, precision))  // tensor cores (docs/tensor-cores.md)
+    kernels3x3.insert(kernels3x3.begin(), rt::Conv3x3Kernel::cooperative_matrix);
   for (const ConvCase c :
        {ConvCase{64, 64, 240, 376, 3}, ConvCase{1, 64, 480, 752, 3}, ConvCase{64, 64, 480, 752, 3},
         ConvCase{128, 256, 60, 94, 3}, ConvCase{256, 65, 60, 94, 1}, ConvCase{256, 256, 60, 80, 1}}) {
     for (const rt::Conv3x3Kernel kernel : c.k == 3 ? kernels3x3 : std::vector{rt::Conv3x3Kernel::automatic}) {
-      const char* suffix = c.k == 1 ? "" : kernel == rt::Conv3x3Kernel::tiled ? " tiled" : " direct";
+      const char* suffix = c.k == 1                                          ? ""
+                           : kernel == rt::Conv3x3Kernel::tiled              ? " tiled"
+                           : kernel == rt::Conv3x3Kernel::cooperative_matrix ? " coopmat"
+                                                                             : " direct";
       const auto kernel_name = fmt::format("conv{}x{} {}->{} @{}x{}{}", c.k, c.k, c.in_c, c.out_c, c.w, c.h, suffix);
       if (!wanted(kernel_name)) continue;
       const rt::ActivationShape in{c.in_c, c.h, c.w, c.k == 3 ? 1u : 0u};
@@ -175,14 +180,15 @@ std::vector<BenchResult> bench_kernels(const rt::Context& ctx, rt::Precision pre
                                 rt::GemmShape{.m = 1000, .n = 512, .k = 512, .b_transposed = true},
                                 rt::GemmShape{.m = 400, .n = 512, .k = 512, .b_transposed = true},
                                 rt::conv1x1_gemm_shape(rt::ActivationShape{256, 60, 80, 0}, 256, false)}) {
-    const auto kernel_name = fmt::format("gemm {}x{}x{}{}", s.m, s.n, s.k, s.b_transposed ? " B^T" : "");
+    const rt::Gemm gemm(ctx, precision);
+    const auto kernel_name = fmt::format("gemm {}x{}x{}{}{}", s.m, s.n, s.k, s.b_transposed ? " B^T" : "",
+                                         gemm.uses_cooperative_matrix() ? " coopmat" : "");
     if (!wanted(kernel_name)) continue;
     rt::Buffer a(ctx, std::size_t(s.m) * s.k * rt::storage_bytes(precision));
     rt::Buffer b(ctx, std::size_t(s.n) * s.k * rt::storage_bytes(precision));
     rt::Buffer c(ctx, std::size_t(s.m) * s.n * rt::storage_bytes(precision));
     fill_random(a, precision, 3);
     fill_random(b, precision, 4);
-    const rt::Gemm gemm(ctx, precision);
     rt::Sequence seq(ctx);
     seq.begin();
     gemm.record(seq, a, b, nullptr, c, s);

@@ -1,11 +1,13 @@
 #include "features/nn_matcher.hpp"
 
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "io/config.hpp"
 #include "runtime/buffer.hpp"
+#include "runtime/host_transfer.hpp"
 #include "runtime/kernel.hpp"
 #include "runtime/ops.hpp"
 #include "runtime/push_constants.hpp"
@@ -38,6 +40,9 @@ struct NnMatcher::Impl {
   bool recorded = false;
   bool profiling = false;
   std::unique_ptr<rt::Buffer> desc0, desc1, similarity, best, best_value, second, matches, scores;
+  // Inputs and outputs recorded into the sequence where the device does not map them: a call is one submission.
+  std::optional<rt::HostInput> desc0_in, desc1_in;
+  std::optional<rt::HostOutput> matches_out, scores_out;
   std::vector<rt::CommandTiming> timings;
 
   Impl(const rt::Context& ctx, const NnMatcherParams& p)
@@ -61,8 +66,14 @@ struct NnMatcher::Impl {
     second = make(rows * 4, "nn.second");
     matches = make(n0 * 4, "nn.matches0");
     scores = make(n0 * 4, "nn.scores0");
+    desc0_in.emplace(context, *desc0);
+    desc1_in.emplace(context, *desc1);
+    matches_out.emplace(context, *matches);
+    scores_out.emplace(context, *scores);
     if (!seq) seq = std::make_unique<rt::Sequence>(context, profiling ? 16 : 0);
     seq->begin();
+    desc0_in->record(*seq);
+    desc1_in->record(*seq);
     gemm.record(*seq, *desc0, *desc1, nullptr, *similarity,
                 {.m = std::uint32_t(n0), .n = std::uint32_t(n1), .k = std::uint32_t(dim), .b_transposed = true},
                 "similarity");
@@ -75,6 +86,8 @@ struct NnMatcher::Impl {
                   {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*second), rt::Binding(*matches),
                    rt::Binding(*scores)},
                   sp, {rt::groups_for(n0, 64)}, "select");
+    matches_out->record(*seq);
+    scores_out->record(*seq);
     seq->end();
     recorded = true;
   }
@@ -113,13 +126,13 @@ PointMatches NnMatcher::match(const PointFeatures& a, const PointFeatures& b) {
     s.dim = dim;
     s.record();
   }
-  s.desc0->upload(a.descriptors.data(), s.n0 * dim * 4);
-  s.desc1->upload(b.descriptors.data(), s.n1 * dim * 4);
+  s.desc0_in->write(a.descriptors.data(), s.n0 * dim * 4);
+  s.desc1_in->write(b.descriptors.data(), s.n1 * dim * 4);
   s.seq->submit();
   s.timings = s.seq->timings();
-  const auto m = s.matches->download<std::int32_t>(s.n0);
+  const auto m = s.matches_out->read<std::int32_t>(s.n0);
   result.matches0.assign(m.begin(), m.end());
-  result.scores0 = s.scores->download<float>(s.n0);
+  result.scores0 = s.scores_out->read<float>(s.n0);
   return result;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -12,6 +13,7 @@
 #include "io/config.hpp"
 #include "runtime/buffer.hpp"
 #include "runtime/half.hpp"
+#include "runtime/host_transfer.hpp"
 #include "runtime/kernel.hpp"
 #include "runtime/ops.hpp"
 #include "runtime/push_constants.hpp"
@@ -119,6 +121,10 @@ struct SuperGlue::Impl {
              *state = nullptr, *qkv = nullptr, *hidden = nullptr, *attn0 = nullptr, *attn1 = nullptr, *z = nullptr,
              *z_rows = nullptr, *z_cols = nullptr, *u = nullptr, *v = nullptr, *best = nullptr, *best_value = nullptr,
              *matches = nullptr, *match_scores = nullptr;
+  // The host's side of the per-call inputs and outputs, copied by the sequence where they are not mapped: a call is
+  // one submission.
+  std::optional<rt::HostInput> kpts_in, kscores_in, state_in;
+  std::optional<rt::HostOutput> matches_out, match_scores_out;
   std::vector<rt::CommandTiming> timings;
 
   Impl(const rt::Context& ctx, const io::ModelPack& pack, const SuperGlueParams& p)
@@ -254,6 +260,11 @@ struct SuperGlue::Impl {
     best_value = make_buffer(rows * 4, "superglue.best_value");
     matches = make_buffer(n0 * 4, "superglue.matches0");
     match_scores = make_buffer(n0 * 4, "superglue.matching_scores0");
+    kpts_in.emplace(context, *kpts);
+    kscores_in.emplace(context, *kscores);
+    state_in.emplace(context, *state);
+    matches_out.emplace(context, *matches);
+    match_scores_out.emplace(context, *match_scores);
   }
 
   rt::Binding bias_of(const Layer& l) const { return rt::Binding(*biases, l.bias_offset, std::size_t(l.out) * 4); }
@@ -343,6 +354,7 @@ struct SuperGlue::Impl {
     const std::uint32_t rows = std::uint32_t(n0 + n1);
     if (!seq) seq = std::make_unique<rt::Sequence>(context, profiling ? 1024 : 0);
     seq->begin();
+    for (const auto* in : {&*kpts_in, &*kscores_in, &*state_in}) in->record(*seq);
     // Image sizes are push constants: the sequence is re-recorded when they change (see match()).
     seq->dispatch(keypoints_kernel, {rt::Binding(*kpts), rt::Binding(*kscores), rt::Binding(*enc_in)}, image_push,
                   {rt::groups_for(rows, 64)}, "keypoints");
@@ -398,6 +410,8 @@ struct SuperGlue::Impl {
     seq->dispatch(mutual_kernel,
                   {rt::Binding(*best), rt::Binding(*best_value), rt::Binding(*matches), rt::Binding(*match_scores)}, mp,
                   {rt::groups_for(n0, 64)}, "mutual");
+    matches_out->record(*seq);
+    match_scores_out->record(*seq);
     seq->end();
     recorded = true;
   }
@@ -510,19 +524,19 @@ PointMatches SuperGlue::match(const PointFeatures& a, const PointFeatures& b, Ei
       sc[r] = f->scores[i];
       for (int c = 0; c < dim; ++c) st[r * 2 * dim + c] = f->descriptors(Eigen::Index(i), c);
     }
-  s.kpts->upload(std::span<const float>(kp));
-  s.kscores->upload(std::span<const float>(sc));
+  s.kpts_in->write(kp.data(), kp.size() * sizeof(float));
+  s.kscores_in->write(sc.data(), sc.size() * sizeof(float));
   const auto state_bytes = rt::encode_storage(st, s.precision);
-  s.state->upload(state_bytes.data(), state_bytes.size());
+  s.state_in->write(state_bytes.data(), state_bytes.size());
 
   if (!s.recorded) s.record();
   s.seq->submit();
   s.timings = s.seq->timings();
 
-  const auto m = s.matches->download<std::int32_t>(s.n0);
+  const auto m = s.matches_out->read<std::int32_t>(s.n0);
   result.matches0.assign(m.begin(), m.end());
-  result.scores0 = s.match_scores->download<float>(s.n0);
-  if (log_assignment) {
+  result.scores0 = s.match_scores_out->read<float>(s.n0);
+  if (log_assignment) {  // on request only: a transfer of its own
     const auto dense = s.z->download<float>((s.n0 + 1) * (s.n1 + 1));
     *log_assignment = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
         dense.data(), Eigen::Index(s.n0 + 1), Eigen::Index(s.n1 + 1));

@@ -2,10 +2,12 @@
 // data, in every precision the device supports, at sizes that are not multiples of the workgroup tiles.
 #include <array>
 #include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 
 #include "common/gpu.hpp"
+#include "common/test_support.hpp"
 #include "conv_reference.hpp"
 #include "kernel_test_util.hpp"
 #include "runtime/context.hpp"
@@ -42,8 +44,12 @@ void check_conv(Precision precision, const ConvCase& c, std::uint32_t seed,
   auto& ctx = gpu();
   const auto input = as_stored(random_values(std::size_t(c.in_c) * c.h * c.w, seed), precision);
   const Precision weight_precision = conv_weight_precision(precision);
+  // The tensor-core kernel multiplies the weights rounded to fp16: the reference takes them so rounded, which they
+  // are exactly as stored then, and the tolerance of the activations' precision applies.
   const auto weights =
-      as_stored(random_values(std::size_t(c.out_c) * c.in_c * c.k * c.k, seed + 1, -0.5f, 0.5f), weight_precision);
+      as_stored(as_stored(random_values(std::size_t(c.out_c) * c.in_c * c.k * c.k, seed + 1, -0.5f, 0.5f),
+                          kernel == Conv3x3Kernel::cooperative_matrix ? Precision::fp16 : weight_precision),
+                weight_precision);
   const auto bias = random_values(c.out_c, seed + 2);
   const auto expected = reference_conv(input, weights, bias, c.in_c, c.out_c, c.h, c.w, c.k, c.relu);
 
@@ -89,6 +95,39 @@ TEST_P(Kernels, Conv3x3TiledKernelMatchesReference) {
   check_conv(precision(), {5, 13, 6, 70, 3, 1, 1, true}, 43, Conv3x3Kernel::tiled);
   check_conv(precision(), {64, 65, 11, 19, 3, 1, 1, false}, 44, Conv3x3Kernel::tiled);
   check_conv(precision(), {1, 64, 24, 32, 3, 1, 1, true}, 45, Conv3x3Kernel::tiled);
+}
+
+// The tensor-core implicit GEMM (64 output channels x 64 pixels per workgroup, K = 9 x input channels in steps of
+// 32): partial channel and pixel blocks, K of one partial step (SuperPoint's first layer), several steps with a
+// partial last one, and SuperPoint's widest layer. Runs where the device has the kernels' shape (an NVIDIA GPU).
+TEST_P(Kernels, Conv3x3CooperativeMatrixMatchesReference) {
+  if (!use_cooperative_matrix(gpu(), precision()))
+    GTEST_SKIP() << gpu().caps().name << " runs no tensor-core kernels at " << to_string(precision());
+  constexpr auto coopmat = Conv3x3Kernel::cooperative_matrix;
+  ASSERT_TRUE(Conv2d(gpu(), precision(), 3).uses_cooperative_matrix());
+  check_conv(precision(), {3, 8, 13, 29, 3, 1, 1, true}, 71, coopmat);
+  check_conv(precision(), {16, 6, 9, 7, 3, 1, 0, false}, 72, coopmat);
+  check_conv(precision(), {1, 64, 24, 32, 3, 1, 1, true}, 73, coopmat);
+  check_conv(precision(), {64, 65, 11, 19, 3, 1, 1, false}, 74, coopmat);
+  check_conv(precision(), {128, 256, 15, 20, 3, 1, 0, true}, 75, coopmat);
+}
+
+// Where the device has no tensor cores (lavapipe, AMD, Intel) the automatic choice keeps the SIMT kernels, and
+// asking for the tensor-core kernel is an error naming the shape it needs.
+TEST(Conv2d, CooperativeMatrixOnlyWhereTheProfileHasIt) {
+  for (const Precision p : kAllPrecisions) {
+    if (!gpu().caps().supports(p)) continue;
+    EXPECT_EQ(Conv2d(gpu(), p, 3).uses_cooperative_matrix(), use_cooperative_matrix(gpu(), p)) << to_string(p);
+    EXPECT_EQ(Gemm(gpu(), p).uses_cooperative_matrix(), use_cooperative_matrix(gpu(), p)) << to_string(p);
+  }
+  EXPECT_FALSE(use_cooperative_matrix(gpu(), Precision::fp32));
+  if (gpu().profile().cooperative_matrix) GTEST_SKIP() << gpu().caps().name << " has the tensor-core kernels";
+  const std::string conv_error =
+      test::error_of([] { Conv2d(gpu(), Precision::fp16s, 3, Conv3x3Kernel::cooperative_matrix); });
+  EXPECT_NE(conv_error.find("needs cooperative matrices of shape 16x16x16 f16*f16+f32->f32 subgroup"),
+            std::string::npos)
+      << conv_error;
+  EXPECT_THROW(Gemm(gpu(), Precision::fp16s, GemmKernel::cooperative_matrix), std::exception);
 }
 
 // The fused conv + max-pool against the reference conv followed by the reference pool. The fused kernel pools
@@ -338,6 +377,25 @@ TEST_P(Kernels, GemmTiledKernelMatchesReference) {
                {.m = 19, .n = 2 * per_texel, .k = 16, .b_transposed = false, .accumulate = true, .bias_per_row = true},
                true, 60, tiled);
   }
+}
+
+// The tensor-core GEMM (64 x 64 blocks of C, K in steps of 32, any alignment): partial blocks, K of a partial step,
+// both forms of B, every epilogue, SuperGlue's projection (256 x 1000 x 256) and SuperPoint's convDb as a GEMM over
+// the planes.
+TEST_P(Kernels, GemmCooperativeMatrixMatchesReference) {
+  if (!use_cooperative_matrix(gpu(), precision()))
+    GTEST_SKIP() << gpu().caps().name << " runs no tensor-core kernels at " << to_string(precision());
+  constexpr auto coopmat = GemmKernel::cooperative_matrix;
+  check_gemm(precision(), {.m = 37, .n = 70, .k = 129, .b_transposed = false}, true, 81, coopmat);
+  check_gemm(precision(), {.m = 65, .n = 23, .k = 64, .b_transposed = true, .relu = true, .alpha = 0.125f}, true, 82,
+             coopmat);
+  check_gemm(precision(), {.m = 1, .n = 1, .k = 3, .b_transposed = true}, false, 83, coopmat);
+  check_gemm(precision(), {.m = 11, .n = 24, .k = 8, .b_transposed = false, .bias_per_row = true}, true, 84, coopmat);
+  check_gemm(precision(), {.m = 21, .n = 30, .k = 17, .b_transposed = true, .relu = true, .accumulate = true}, true, 85,
+             coopmat);
+  check_gemm(precision(), {.m = 256, .n = 1000, .k = 256, .b_transposed = true}, true, 86, coopmat);
+  check_gemm(precision(), {.m = 256, .n = 60 * 94, .k = 256, .b_transposed = false, .bias_per_row = true}, true, 87,
+             coopmat);
 }
 
 // The automatic tile is the device profile's (wide on CPU devices: gemm_tiled.comp says why).

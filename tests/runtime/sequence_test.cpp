@@ -6,6 +6,7 @@
 #include "common/test_support.hpp"
 #include "kernel_test_util.hpp"
 #include "runtime/context.hpp"
+#include "runtime/host_transfer.hpp"
 #include "runtime/ops.hpp"
 
 namespace vkvo::rt {
@@ -62,6 +63,36 @@ TEST(Buffer, DiscreteMemoryTransfersThroughAKeptStagingBuffer) {
     return dc.download<float>(a.size());
   };
   EXPECT_EQ(product(discrete), product(gpu()));
+}
+
+// A call's input and output as part of its sequence: through staging copies where the device buffers are not
+// mapped, in place where they are; either way one submission per call, each call seeing that call's input.
+TEST(HostTransfer, InputsAndOutputsRideInTheSequence) {
+  const Context discrete({.pipeline_cache = false, .use_unified_memory = false});
+  for (const Context* context : {&static_cast<const Context&>(gpu()), &discrete}) {
+    SCOPED_TRACE(context == &discrete ? "staged" : "mapped");
+    Buffer in_buf(*context, 64 * sizeof(float), BufferKind::device, "in");
+    Buffer out_buf(*context, 64 * sizeof(float), BufferKind::device, "out");
+    const HostInput input(*context, in_buf);
+    const HostOutput output(*context, out_buf);
+    EXPECT_EQ(input.staged(), context == &discrete);
+    EXPECT_EQ(output.staged(), context == &discrete);
+    Sequence seq(*context, 0);
+    seq.begin();
+    input.record(seq);
+    seq.copy(in_buf, out_buf, in_buf.size());  // stands in for the kernels between them
+    output.record(seq);
+    seq.end();
+    for (float call : {1.0f, 2.0f, 3.0f}) {
+      std::vector<float> values(64);
+      for (std::size_t i = 0; i < values.size(); ++i) values[i] = call * 100 + float(i);
+      input.write(values.data(), values.size() * sizeof(float));
+      const std::uint64_t before = context->submission_count();
+      seq.submit();
+      EXPECT_EQ(output.read<float>(64), values) << "call " << call;
+      EXPECT_EQ(context->submission_count() - before, 1u) << "call " << call;
+    }
+  }
 }
 
 TEST(Buffer, OverrunIsAnErrorNamingTheBuffer) {

@@ -18,7 +18,8 @@ namespace {
 // SPIR-V encodings (SPIR-V specification, sections 2.3 and 3): header words, opcodes, Dim Buffer.
 constexpr std::uint32_t kSpirvMagic = 0x07230203u;
 constexpr std::size_t kHeaderWords = 5;
-constexpr std::uint32_t kOpTypeImage = 25, kOpTypeSampledImage = 27;
+constexpr std::uint32_t kOpCapability = 17, kOpTypeImage = 25, kOpTypeSampledImage = 27;
+constexpr std::uint32_t kCapabilityVulkanMemoryModel = 5345, kCapabilityCooperativeMatrixNV = 5357;
 constexpr std::uint32_t kDimBuffer = 5;
 
 // The image types with Dim Buffer that a module declares, and those of them an OpTypeSampledImage wraps.
@@ -78,6 +79,48 @@ TEST(ShaderRegistry, WinogradIsCompiledForFp32Only) {
       << error;
   EXPECT_EQ(op_info(Op::winograd_f43_input_wide).feature, ShaderFeature::int64);
   EXPECT_EQ(op_info(Op::winograd_f43_input).feature, ShaderFeature::none);
+}
+
+std::set<std::uint32_t> capabilities(std::span<const std::uint32_t> words) {
+  std::set<std::uint32_t> result;
+  for (std::size_t at = kHeaderWords; at < words.size();) {
+    const std::uint32_t count = words[at] >> 16, opcode = words[at] & 0xffffu;
+    if (count == 0 || at + count > words.size()) throw std::runtime_error("malformed instruction stream");
+    if (opcode == kOpCapability && count == 2) result.insert(words[at + 1]);
+    at += count;
+  }
+  return result;
+}
+
+// The tensor-core kernels are the NV cooperative-matrix form (which declares the Vulkan memory model the context
+// enables with it), built at the 16-bit storage precisions only, and need the device's shape; no other op uses
+// cooperative matrices, so the fallbacks run everywhere.
+TEST(ShaderRegistry, TensorCoreKernelsAreTheOnlyCooperativeMatrixOps) {
+  for (const Op op : {Op::gemm_coopmat, Op::conv3x3_coopmat}) {
+    const OpInfo& info = op_info(op);
+    EXPECT_EQ(info.feature, ShaderFeature::cooperative_matrix) << info.name;
+    EXPECT_FALSE(info.compiled_for(Precision::fp32)) << info.name;
+    for (const Precision p : {Precision::fp16s, Precision::fp16}) {
+      ASSERT_TRUE(info.compiled_for(p)) << info.name;
+      const auto caps = capabilities(find_shader(op, p).spirv());
+      EXPECT_TRUE(caps.contains(kCapabilityCooperativeMatrixNV)) << info.name;
+      EXPECT_TRUE(caps.contains(kCapabilityVulkanMemoryModel)) << info.name;
+    }
+  }
+  for (const auto& shader : detail::embedded_shaders()) {
+    const bool cooperative = capabilities(shader.spirv()).contains(kCapabilityCooperativeMatrixNV);
+    EXPECT_EQ(cooperative, op_info(shader.op).feature == ShaderFeature::cooperative_matrix) << to_string(shader.op);
+  }
+  // Their interfaces are those of the SIMT kernels they stand in for.
+  const ShaderInterface& gemm = *find_shader(Op::gemm_coopmat, Precision::fp16s).interface;
+  ASSERT_EQ(gemm.binding_count, 4u);
+  EXPECT_TRUE(gemm.bindings[3].read && gemm.bindings[3].write);  // C, read when accumulating
+  EXPECT_EQ(gemm.push_constant_bytes, sizeof(shader::GemmPush));
+  const ShaderInterface& conv = *find_shader(Op::conv3x3_coopmat, Precision::fp16).interface;
+  ASSERT_EQ(conv.binding_count, 4u);
+  EXPECT_FALSE(conv.bindings[3].read);
+  EXPECT_EQ(conv.push_constant_bytes, sizeof(shader::Conv3x3Push));
+  EXPECT_EQ(conv.specialization_constants, 1u);  // the workgroup size: four subgroups
 }
 
 // The interfaces the build reflected from the SPIR-V, for a few ops whose GLSL declares them plainly: the counts,

@@ -53,6 +53,27 @@ std::vector<int> plant_copies(const PointFeatures& a, int count, PointFeatures& 
   return perm;
 }
 
+// A call is one queue submission once the set sizes' buffers exist, through staging buffers as with mapped ones,
+// and what it finds does not depend on the path.
+TEST(NnMatcher, OneQueueSubmissionPerCall) {
+  const rt::Context discrete({.use_unified_memory = false});
+  std::mt19937 rng(5);
+  const PointFeatures a = test::random_features(120, 256, rng);
+  PointFeatures b = test::random_features(150, 256, rng);
+  plant_copies(a, 80, b, rng);
+  const PointMatches want = brute_force(a, b, NnMatcherParams{});
+  for (const rt::Context* context : {&static_cast<const rt::Context&>(gpu()), &discrete}) {
+    SCOPED_TRACE(context == &discrete ? "staged" : "mapped");
+    NnMatcher matcher(*context);
+    matcher.match(a, b);  // allocates and records for these sizes
+    for (int call = 0; call < 3; ++call) {
+      const std::uint64_t before = context->submission_count();
+      EXPECT_EQ(matcher.match(a, b).matches0, want.matches0);
+      EXPECT_EQ(context->submission_count() - before, 1u) << "call " << call;
+    }
+  }
+}
+
 TEST(NnMatcher, FindsPlantedCorrespondences) {
   std::mt19937 rng(3);
   const PointFeatures a = test::random_features(120, 256, rng);

@@ -278,6 +278,24 @@ TEST(SuperGlueDiscreteMemory, SameMatchesAsWithMappedBuffers) {
   }
 }
 
+// A call is one queue submission once the set sizes' buffers exist, through staging buffers as with mapped ones.
+TEST(SuperGlueSubmissions, OneQueueSubmissionPerCall) {
+  const rt::Context discrete({.use_unified_memory = false});
+  const auto pack = test::random_superglue_pack({});
+  for (const rt::Context* context : {&static_cast<const rt::Context&>(gpu()), &discrete}) {
+    SCOPED_TRACE(context == &discrete ? "staged" : "mapped");
+    SuperGlue net(*context, pack);
+    const auto [a, b] = make_pair(37, 23, 32, 7);
+    net.match(a, b);  // allocates and records for these sizes
+    for (std::uint32_t seed : {8u, 9u, 10u}) {
+      const auto [c, d] = make_pair(37, 23, 32, seed);
+      const std::uint64_t before = context->submission_count();
+      EXPECT_GT(net.match(c, d).count(), 0u);
+      EXPECT_EQ(context->submission_count() - before, 1u) << "pair " << seed;
+    }
+  }
+}
+
 TEST(SuperGlueParams, LoadsYamlSection) {
   const auto p = load_superglue_params(YAML::Load("{match_threshold: 0.3, sinkhorn_iterations: 50, precision: fp32}"));
   EXPECT_FLOAT_EQ(p.match_threshold, 0.3f);

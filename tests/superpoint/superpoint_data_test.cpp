@@ -19,6 +19,7 @@
 #include "common/test_support.hpp"
 #include "features/superpoint.hpp"
 #include "io/npy.hpp"
+#include "runtime/ops.hpp"
 #include "superpoint/superpoint_reference.hpp"
 #include "tools/convert/convert.hpp"
 
@@ -102,13 +103,16 @@ void PrintTo(const Case& c, std::ostream* os) { *os << c.name << " " << rt::to_s
 // weights cost far more than 16-bit activations (tools/superpoint_fp16_error.py). fp16 multiplies in 16 bits, so
 // its weights are rounded to 16 bits whatever they are stored as; it is held to what it reaches, with room, and
 // misses golden/README.md's dense acceptance (docs/accuracy.md has the errors of each variant). The keypoint
-// checks (recall, descriptor cosine) are golden/README.md's for every variant.
+// checks (recall, descriptor cosine) are golden/README.md's for every variant. The tensor-core kernels
+// (rt::use_cooperative_matrix: fp16s and fp16 on NVIDIA GPUs) also multiply 16-bit weights, with fp32 sums: they
+// are held to fp16's dense bounds and, like every variant, to the keypoint checks (issue 39's acceptance).
 struct DenseTolerance {
   float score_max_abs;
   float descriptor_min_cosine;
 };
-DenseTolerance dense_tolerance(rt::Precision precision) {
-  return precision != rt::Precision::fp16 ? DenseTolerance{2e-3f, 0.999f} : DenseTolerance{2.5e-2f, 0.993f};
+DenseTolerance dense_tolerance(rt::Precision precision, bool tensor_cores) {
+  return precision != rt::Precision::fp16 && !tensor_cores ? DenseTolerance{2e-3f, 0.999f}
+                                                           : DenseTolerance{2.5e-2f, 0.993f};
 }
 
 class SuperPointGolden : public ::testing::TestWithParam<Case> {};
@@ -126,7 +130,7 @@ TEST_P(SuperPointGolden, MatchesPyTorchReference) {
   SuperPointDense dense;
   const PointFeatures result = sp.detect(g.image, &dense);
 
-  const DenseTolerance tolerance = dense_tolerance(c.precision);
+  const DenseTolerance tolerance = dense_tolerance(c.precision, rt::use_cooperative_matrix(gpu, c.precision));
   // Dense scores: same shape (floor to multiples of 8), max abs error within the variant's tolerance.
   ASSERT_EQ(g.dense_scores_shape,
             (std::vector<std::size_t>{std::size_t(dense.cells_h) * 8, std::size_t(dense.cells_w) * 8}));
@@ -171,6 +175,7 @@ TEST_P(SuperPointGolden, MatchesPyTorchReference) {
   const double recall = double(found) / g.keypoints.size();
   EXPECT_GE(recall, 0.95) << found << " of " << g.keypoints.size();
   EXPECT_GE(min_desc_cos, 0.995f);
+  RecordProperty("tensor_cores", rt::use_cooperative_matrix(gpu, c.precision) ? "yes" : "no");
   RecordProperty("dense_score_max_err", std::to_string(max_err));
   RecordProperty("keypoint_recall", std::to_string(recall));
   RecordProperty("dense_descriptor_min_cosine", std::to_string(min_cos));

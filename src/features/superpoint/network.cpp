@@ -88,11 +88,13 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
         ctx, rt::KernelSpec{.op = rt::Op::superpoint_detector_head_tiled,
                             .precision = p,
                             .texel_formats = {rt::activation_texel_format(p), rt::conv_weight_texel_format(p)}});
-    conv_pool.emplace(ctx, p);
     nms_tiled.emplace(ctx, true);
-  } else {
-    pool.emplace(ctx, p);
   }
+  // On tensor cores conv*b runs as conv3x3_coopmat, then the pool: the fused pass is a SIMT kernel.
+  if (tiled && rt::tiled_kernels_available(ctx, p) && !conv3x3.uses_cooperative_matrix())
+    conv_pool.emplace(ctx, p);
+  else
+    pool.emplace(ctx, p);
   for (std::size_t i = 0; i < kSuperPointLayers; ++i) convs[i] = find_conv(pack, static_cast<SuperPointLayer>(i), p);
   block.upload(pack.data_block().data(), pack.data_block().size());
 
@@ -112,8 +114,11 @@ SuperPointNetwork::SuperPointNetwork(const rt::Context& ctx, const io::ModelPack
   // the weights as an O x I matrix, so those layers get a row-major copy. Its two operands share one texel
   // format, so where the weights are stored wider than the activations (fp16s, rt::conv_weight_precision) the
   // 1x1 layers stay on the convolution kernels.
-  if (tiled && rt::tiled_kernels_available(ctx, p) && ctx.profile().conv1x1_as_gemm &&
-      rt::conv_weight_precision(p) == p) {
+  // On tensor cores (rt::use_cooperative_matrix) they run as gemm_coopmat, which reads any operand layout and
+  // rounds the weights to fp16 to multiply them anyway.
+  const bool coopmat_gemm = tiled && rt::use_cooperative_matrix(ctx, p);
+  if (coopmat_gemm || (tiled && rt::tiled_kernels_available(ctx, p) && ctx.profile().conv1x1_as_gemm &&
+                       rt::conv_weight_precision(p) == p)) {
     for (std::size_t i = 0; i < kSuperPointLayers; ++i) {
       const SuperPointConv& c = convs[i];
       if (c.kernel != 1) continue;
@@ -164,7 +169,9 @@ std::optional<rt::GemmShape> SuperPointNetwork::conv1x1_as_gemm(SuperPointLayer 
                                                                 bool relu) const {
   if (!conv1x1_gemm || !conv1x1_matrices.has(layer) || in.pad != 0 || out_pad != 0) return std::nullopt;
   const rt::GemmShape shape = rt::conv1x1_gemm_shape(in, convs[layer].out_channels, relu);
-  if (!conv1x1_gemm->uses_tiled_kernel(shape, conv1x1_matrices.binding(layer), rt::Binding(input))) return std::nullopt;
+  if (!conv1x1_gemm->uses_cooperative_matrix() &&
+      !conv1x1_gemm->uses_tiled_kernel(shape, conv1x1_matrices.binding(layer), rt::Binding(input)))
+    return std::nullopt;
   return shape;
 }
 
@@ -223,6 +230,10 @@ SuperPointPlan::SuperPointPlan(const rt::Context& ctx, const SuperPointNetwork& 
   descriptors_ =
       rt::Buffer(ctx, std::size_t(max_keypoints_) * dim_ * 4, rt::BufferKind::device, "superpoint.descriptors");
   image_.fill_zero();
+  counter_out_.emplace(ctx, counter_);
+  keypoints_out_.emplace(ctx, keypoints_);
+  scores_out_.emplace(ctx, scores_);
+  descriptors_out_.emplace(ctx, descriptors_);
   allocate_winograd_scratch();
   record();
 }
@@ -360,6 +371,7 @@ void SuperPointPlan::record() {
   seq_.dispatch(net_.sample, {candidates_, counter_, order_, dense_descriptors_, keypoints_, scores_, descriptors_},
                 SamplePush{cells_h_, cells_w_, dim_, capacity_, max_keypoints_}, {max_keypoints_},
                 "sample descriptors");
+  for (const auto* out : {&*counter_out_, &*keypoints_out_, &*scores_out_, &*descriptors_out_}) out->record(seq_);
   seq_.end();
 }
 
@@ -370,7 +382,7 @@ std::uint32_t SuperPointPlan::run(const std::uint8_t* pixels, std::size_t stride
     for (std::uint32_t y = 0; y < height_; ++y) image_.upload(pixels + y * stride, width_, std::size_t(y) * width_);
   }
   seq_.submit();
-  return counter_.download<std::uint32_t>(1)[0];
+  return counter_out_->read<std::uint32_t>(1)[0];
 }
 
 std::uint32_t SuperPointPlan::keypoint_count(std::uint32_t candidates) const {
@@ -386,9 +398,9 @@ void SuperPointPlan::download(std::uint32_t count, std::vector<float>& keypoints
   scores.clear();
   descriptors.clear();
   if (count == 0) return;
-  keypoints_xy = keypoints_.download<float>(std::size_t(count) * 2);
-  scores = scores_.download<float>(count);
-  descriptors = descriptors_.download<float>(std::size_t(count) * dim_);
+  keypoints_xy = keypoints_out_->read<float>(std::size_t(count) * 2);
+  scores = scores_out_->read<float>(count);
+  descriptors = descriptors_out_->read<float>(std::size_t(count) * dim_);
 }
 
 void SuperPointPlan::download_dense(std::vector<float>& scores, std::vector<float>& descriptors) const {

@@ -13,6 +13,7 @@
 #include "features/superpoint/architecture.hpp"
 #include "io/model_pack.hpp"
 #include "runtime/buffer.hpp"
+#include "runtime/host_transfer.hpp"
 #include "runtime/kernel.hpp"
 #include "runtime/ops.hpp"
 #include "runtime/sequence.hpp"
@@ -86,8 +87,8 @@ struct SuperPointNetwork {
   // it can take.
   std::optional<rt::WinogradConv3x3> winograd;
   DerivedLayerTensors winograd_filters;
-  // Set on CPU devices with the tiled kernels: the GEMM that runs the 1x1 layers on borderless planes, and their
-  // weights as O x I matrices at the storage precision.
+  // Set on CPU devices with the tiled kernels, and on tensor cores: the GEMM that runs the 1x1 layers on borderless
+  // planes, and their weights as O x I matrices at the storage precision.
   std::optional<rt::Gemm> conv1x1_gemm;
   DerivedLayerTensors conv1x1_matrices;
 };
@@ -99,12 +100,15 @@ class SuperPointPlan {
   SuperPointPlan(const rt::Context& context, const SuperPointNetwork& net, const SuperPointParams& params, int width,
                  int height, bool profile);
 
-  // Uploads the image (CV_8UC1 data, `stride` bytes per row), submits, returns the number of NMS candidates.
+  // Writes the image (CV_8UC1 data, `stride` bytes per row) into mapped memory, submits the sequence (the one
+  // submission of a call: it also copies the outputs below to the host where the device does not map them),
+  // returns the number of NMS candidates.
   std::uint32_t run(const std::uint8_t* pixels, std::size_t stride);
   // Number of keypoints the last run produced, and its outputs.
   std::uint32_t keypoint_count(std::uint32_t candidates) const;
   void download(std::uint32_t count, std::vector<float>& keypoints_xy, std::vector<float>& scores,
                 std::vector<float>& descriptors) const;
+  // The dense maps, on request (SuperPoint::detect's `dense`): a transfer of their own.
   void download_dense(std::vector<float>& scores, std::vector<float>& descriptors) const;
 
   const rt::Sequence& sequence() const { return seq_; }
@@ -124,6 +128,8 @@ class SuperPointPlan {
   std::deque<rt::Buffer> activations_;  // a deque: record() holds references to earlier ones as it adds more
   rt::Buffer image_, dense_scores_, rows_, mask_, supp_scores_, supp_, candidates_, counter_, order_;
   rt::Buffer dense_descriptors_, keypoints_, scores_, descriptors_;
+  // The host's view of the counter and the outputs, copied by the sequence where they are not mapped.
+  std::optional<rt::HostOutput> counter_out_, keypoints_out_, scores_out_, descriptors_out_;
   // Scratch of the Winograd layers (transformed input, GEMM products), sized for the largest; empty without.
   std::optional<rt::Buffer> winograd_input_, winograd_products_;
   rt::Sequence seq_;
