@@ -2,6 +2,7 @@
 // map, a summary and the timing table; with ground truth next to the dataset, the ATE too.
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "app/command.hpp"
 #include "app/device_options.hpp"
+#include "app/exit_codes.hpp"
 #include "app/vo_frontends.hpp"
 #include "io/dataset.hpp"
 #include "system/pipeline.hpp"
@@ -20,6 +22,22 @@ namespace {
 
 namespace fs = std::filesystem;
 std::atomic<bool> g_stop{false};
+volatile std::sig_atomic_t g_signal = 0;
+
+// SIGINT, SIGTERM (docker stop, systemd, timeout) and SIGHUP end the run after the current frame with every output
+// written; a second signal exits at once.
+void on_stop_signal(int signal) {
+  if (g_signal != 0) std::_Exit(128 + signal);
+  g_signal = signal;
+  g_stop = true;
+}
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  for (int signal : {SIGINT, SIGTERM, SIGHUP}) sigaction(signal, &action, nullptr);
+}
 
 struct Options {
   fs::path config = "config/euroc.yaml";
@@ -64,7 +82,7 @@ int run(const Options& o) {
   if (!o.feature_cache.empty()) frontend_options.feature_cache = o.feature_cache;
   vkvo::app::VoFrontends frontends(config, frontend_options);
 
-  std::signal(SIGINT, [](int) { g_stop = true; });
+  install_stop_handlers();
   vkvo::system::RunOptions run_options;
   run_options.output_dir = o.out;
   run_options.realtime = o.realtime;
@@ -84,7 +102,9 @@ int run(const Options& o) {
   fmt::print("trajectory: {}\nframes:     {}\nkeyframes:  {} (refined: {})\nsummary:    {}\nmap:        {}\n",
              result.trajectory.string(), result.frames_file.string(), result.keyframes_file.string(),
              result.keyframes_refined_file.string(), result.summary.string(), (o.out / "map.ply").string());
-  if (const auto& e = result.evaluation; !e.is_null()) {
+  // A run that never tracked a frame has no trajectory worth an ATE; say so and fail (docs/bad-input.md).
+  const bool usable = result.frames_tracked > 0;
+  if (const auto& e = result.evaluation; usable && !e.is_null()) {
     const auto rmse = [&](const char* key, const char* stats) -> std::string {
       if (!e.contains(key)) return "n/a";
       const auto& s = e[key][stats];
@@ -99,7 +119,18 @@ int run(const Options& o) {
         rmse("trajectory_by_state", "measured_translation_m"), rmse("trajectory_by_state", "bridged_translation_m"),
         rmse("keyframes_refined", "ate_translation_m"));
   }
-  return g_stop ? 130 : 0;
+  if (g_signal != 0) return 128 + g_signal;
+  if (result.frames == 0) {
+    spdlog::error("no frame could be used ({} of them skipped as unreadable or of the wrong size): nothing to report",
+                  result.frames_skipped);
+    return vkvo::app::kExitNoResult;
+  }
+  if (!usable) {
+    spdlog::error("no frame was tracked ({} processed, {} before tracking started): the trajectory is empty",
+                  result.frames, result.frames_uninitialised);
+    return vkvo::app::kExitNoResult;
+  }
+  return vkvo::app::kExitOk;
 }
 
 vkvo::app::CommandRegistration registration{
