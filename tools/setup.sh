@@ -22,6 +22,8 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest
   # the C++ style check (tools/format.sh)
   clang-format
+  # the libFuzzer targets (tools/fuzz.sh): clang with its fuzzer and sanitizer runtimes
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

@@ -10,3 +10,5 @@ cmake --build "$BUILD_DIR" -j"$(nproc)"
 # lavapipe runs its shader invocations on LP_NUM_THREADS worker threads; ctest runs one test at a time so that
 # the GPU-heavy tests get the whole CPU.
 ctest --test-dir "$BUILD_DIR" --output-on-failure --timeout 900 "$@"
+# The parsers of outside input under libFuzzer + ASan/UBSan, each for a bounded time (docs/bad-input.md).
+tools/fuzz.sh --ci

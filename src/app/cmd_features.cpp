@@ -16,10 +16,11 @@
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "features/superpoint.hpp"
-#include "io/config.hpp"
+#include "io/image_io.hpp"
 #include "io/model_pack.hpp"
 #include "io/npy.hpp"
 #include "runtime/context.hpp"
+#include "system/vo_config.hpp"
 
 namespace {
 
@@ -32,25 +33,10 @@ struct FeaturesOptions {
   bool dense = false;
 };
 
-cv::Mat read_gray(const std::string& path) {
-  if (!fs::exists(path)) throw std::runtime_error("image " + path + " does not exist");
-  cv::Mat image;
-  try {
-    image = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception& e) {
-    throw std::runtime_error("cannot decode image " + path + ": " + e.what());
-  }
-  if (image.empty()) throw std::runtime_error("cannot decode image " + path + " (corrupt or not an image)");
-  return image;
-}
-
 int run_features(const FeaturesOptions& o) {
-  const io::Config config = o.config.empty() ? io::Config() : io::Config::load(o.config);
-  const io::KeyReadLog key_log;
-  features::SuperPointParams params = features::load_superpoint_params(config.section("point_detector"));
-  key_log.require_all_read(config.section("point_detector"), "point_detector", config.origin());
+  features::SuperPointParams params = system::load_vo_config_or_defaults(o.config).point_detector;
   if (const auto precision = o.device.chosen_precision()) params.precision = *precision;
-  const cv::Mat image = read_gray(o.image);
+  const cv::Mat image = io::read_gray_image(o.image);
   const io::ModelPack pack = io::ModelPack::load(o.model, io::NetworkKind::superpoint);
   const rt::Context context(o.device.context_options());
   features::SuperPoint superpoint(context, pack, params);
@@ -89,7 +75,8 @@ app::CommandRegistration registration{
        sub.add_option("--image", o->image, "input image (converted to grayscale)")->required();
        sub.add_option("--out", o->out, "output folder")->required();
        app::add_precision_option(sub, o->device);
-       sub.add_option("--config", o->config, "YAML config; its point_detector section sets the parameters");
+       sub.add_option("--config", o->config, "YAML config; its point_detector section sets the parameters")
+           ->check(CLI::ExistingFile);
        app::add_device_option(sub, o->device);
        sub.add_flag("--dense", o->dense, "also write dense_scores.npy and dense_descriptors.npy");
        return std::function<int()>([o] { return run_features(*o); });

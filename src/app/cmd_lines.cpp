@@ -19,8 +19,9 @@
 #include "features/lines/line_drawing.hpp"
 #include "features/lines/line_matching.hpp"
 #include "features/lines/point_line_association.hpp"
-#include "io/config.hpp"
+#include "io/image_io.hpp"
 #include "io/npy.hpp"
+#include "system/vo_config.hpp"
 
 namespace {
 
@@ -30,12 +31,6 @@ using namespace vkvo;
 struct LinesOptions {
   std::string image_a, image_b, keypoints_a, keypoints_b, matches, out, config, lines_out;
 };
-
-cv::Mat read_gray(const std::string& path) {
-  cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  if (image.empty()) throw std::runtime_error("cannot read image " + path);
-  return image;
-}
 
 // `location` is a folder holding keypoints.npy or the .npy file itself.
 std::vector<Eigen::Vector2f> read_keypoints(const std::string& location) {
@@ -70,14 +65,11 @@ void write_image(const std::string& path, const cv::Mat& image) {
 }
 
 int run_lines(const LinesOptions& o) {
-  const io::Config config = o.config.empty() ? io::Config() : io::Config::load(o.config);
-  const io::KeyReadLog key_log;
-  const features::LinePipelineParams params = features::load_line_pipeline_params(config.section("lines"));
-  key_log.require_all_read(config.section("lines"), "lines", config.origin());
+  const features::LinePipelineParams params = system::load_vo_config_or_defaults(o.config).lines;
   const features::LineDetector detector(params.detector);
 
   features::LineOverlayView a;
-  a.image = read_gray(o.image_a);
+  a.image = io::read_gray_image(o.image_a);
   a.lines = detect_timed(detector, a.image, o.image_a);
   if (!o.lines_out.empty()) write_lines_npy(o.lines_out, a.lines);
   features::PointLineAssociation assoc_a;
@@ -97,7 +89,7 @@ int run_lines(const LinesOptions& o) {
   if (o.keypoints_a.empty() || o.keypoints_b.empty() || o.matches.empty())
     throw std::runtime_error("a pair needs --keypoints-a, --keypoints-b and --matches");
   features::LineOverlayView b;
-  b.image = read_gray(o.image_b);
+  b.image = io::read_gray_image(o.image_b);
   b.lines = detect_timed(detector, b.image, o.image_b);
   b.points = read_keypoints(o.keypoints_b);
   const features::PointLineAssociation assoc_b =

@@ -20,7 +20,7 @@
 #include "features/superglue.hpp"
 #include "io/config.hpp"
 #include "io/npy.hpp"
-#include "io/yaml_utils.hpp"
+#include "system/vo_config.hpp"
 
 namespace {
 
@@ -72,17 +72,16 @@ int run(const MatchOptions& o) {
   const auto a = read_features(o.features0, width, height);
   const auto b = read_features(o.features1, width, height);
   const rt::Context context(o.device.context_options());
-  YAML::Node config;
-  if (!o.config.empty()) config = io::load_yaml_file(o.config);
+  const system::VoConfig config = system::load_vo_config_or_defaults(o.config);
 
   features::PointMatches matches;
   Eigen::MatrixXf dense;
   const auto start = std::chrono::steady_clock::now();
   if (o.model == "nn") {
-    features::NnMatcher matcher(context, features::load_nn_matcher_params(config["nn_matcher"]));
+    features::NnMatcher matcher(context, config.nn_matcher);
     matches = matcher.match(a, b);
   } else {
-    auto params = features::load_superglue_params(config["point_matcher"]);
+    auto params = config.point_matcher;
     if (o.threshold >= 0) params.match_threshold = o.threshold;
     if (const auto precision = o.device.chosen_precision()) params.precision = precision;
     const auto pack = io::ModelPack::load(o.model, io::NetworkKind::superglue);
@@ -117,8 +116,9 @@ vkvo::app::CommandRegistration registration{
        sub.add_option("--image-size", o->image_size, "WxH of the images (keypoint normalisation)")->required();
        sub.add_option("--out", o->out, "output folder")->required();
        sub.add_flag("--dense", o->dense, "also write log_assignment.npy (SuperGlue)");
-       sub.add_option("--config", o->config, "YAML with point_matcher / nn_matcher sections");
-       sub.add_option("--threshold", o->threshold, "SuperGlue match threshold (default 0.2 or the config's)");
+       sub.add_option("--config", o->config, "YAML with point_matcher / nn_matcher sections")->check(CLI::ExistingFile);
+       sub.add_option("--threshold", o->threshold, "SuperGlue match threshold (default 0.2 or the config's)")
+           ->check(CLI::Range(0.0, 1.0));
        app::add_precision_option(sub, o->device);
        app::add_device_option(sub, o->device);
        return std::function<int()>([o] { return run(*o); });

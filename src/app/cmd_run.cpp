@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,6 +15,7 @@
 
 #include "app/command.hpp"
 #include "app/device_options.hpp"
+#include "app/exit_codes.hpp"
 #include "app/vo_frontends.hpp"
 #include "io/dataset.hpp"
 #include "system/pipeline.hpp"
@@ -23,6 +25,22 @@ namespace {
 
 namespace fs = std::filesystem;
 std::atomic<bool> g_stop{false};
+volatile std::sig_atomic_t g_signal = 0;
+
+// SIGINT, SIGTERM (docker stop, systemd, timeout) and SIGHUP end the run after the current frame with every output
+// written; a second signal exits at once.
+void on_stop_signal(int signal) {
+  if (g_signal != 0) std::_Exit(128 + signal);
+  g_signal = signal;
+  g_stop = true;
+}
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  for (int signal : {SIGINT, SIGTERM, SIGHUP}) sigaction(signal, &action, nullptr);
+}
 
 struct Options {
   fs::path config = "config/euroc.yaml";
@@ -72,7 +90,7 @@ int run(const Options& o) {
   if (!o.feature_cache.empty()) frontend_options.feature_cache = o.feature_cache;
   vkvo::app::VoFrontends frontends(config, frontend_options);
 
-  std::signal(SIGINT, [](int) { g_stop = true; });
+  install_stop_handlers();
   vkvo::system::RunOptions run_options;
   run_options.output_dir = o.out;
   run_options.realtime = o.realtime;
@@ -101,7 +119,9 @@ int run(const Options& o) {
                video->file().string(), stats.frames, stats.draw_ms / frames, stats.encode_ms / frames);
     fmt::print("top-down:   {}\n", video->topdown_file().string());
   }
-  if (const auto& e = result.evaluation; !e.is_null()) {
+  // A run that never tracked a frame has no trajectory worth an ATE; say so and fail (docs/bad-input.md).
+  const bool usable = result.frames_tracked > 0;
+  if (const auto& e = result.evaluation; usable && !e.is_null()) {
     const auto rmse = [&](const char* key, const char* stats) -> std::string {
       if (!e.contains(key)) return "n/a";
       const auto& s = e[key][stats];
@@ -116,7 +136,18 @@ int run(const Options& o) {
         rmse("trajectory_by_state", "measured_translation_m"), rmse("trajectory_by_state", "bridged_translation_m"),
         rmse("keyframes_refined", "ate_translation_m"));
   }
-  return g_stop ? 130 : 0;
+  if (g_signal != 0) return 128 + g_signal;
+  if (result.frames == 0) {
+    spdlog::error("no frame could be used ({} of them skipped as unreadable or of the wrong size): nothing to report",
+                  result.frames_skipped);
+    return vkvo::app::kExitNoResult;
+  }
+  if (!usable) {
+    spdlog::error("no frame was tracked ({} processed, {} before tracking started): the trajectory is empty",
+                  result.frames, result.frames_uninitialised);
+    return vkvo::app::kExitNoResult;
+  }
+  return vkvo::app::kExitOk;
 }
 
 vkvo::app::CommandRegistration registration{

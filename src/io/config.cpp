@@ -1,6 +1,9 @@
 #include "io/config.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <optional>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -171,21 +174,57 @@ StereoCalibration apply_camera_overrides(const YAML::Node& camera, StereoCalibra
   return base;
 }
 
+namespace {
+// The radial part of the distortion must grow monotonically from the centre to the farthest image corner, or
+// undistortion has no unique answer there (an absurd coefficient folds the image over itself). Returns the problem.
+std::optional<std::string> radial_distortion_problem(const CameraCalibration& c) {
+  if (c.distortion == DistortionModel::none || c.distortion_coeffs.size() < 2) return std::nullopt;
+  const auto& k = c.distortion_coeffs;
+  const double corner_x = std::max(c.cx, c.width - c.cx) / c.fx, corner_y = std::max(c.cy, c.height - c.cy) / c.fy;
+  const double corner = std::hypot(corner_x, corner_y);
+  // radtan: r_d = r (1 + k1 r^2 + k2 r^4 [+ k3 r^6]); equidistant: theta_d = theta (1 + k1 t^2 + ... + k4 t^8).
+  const bool fisheye = c.distortion == DistortionModel::equidistant;
+  const std::vector<double> radial = fisheye ? std::vector<double>{k[0], k[1], k[2], k[3]}
+                                             : std::vector<double>{k[0], k[1], k.size() == 5 ? k[4] : 0.0};
+  const double extent = fisheye ? std::atan(corner) : corner;
+  constexpr int kSamples = 256;
+  for (int i = 1; i <= kSamples; ++i) {
+    const double r = extent * i / kSamples;
+    double derivative = 1.0, power = 1.0;
+    for (std::size_t j = 0; j < radial.size(); ++j) {
+      power *= r * r;
+      derivative += static_cast<double>(2 * j + 3) * radial[j] * power;
+    }
+    if (!(derivative > 0))
+      return fmt::format(
+          "the radial distortion folds over at {:.3g} of the {:.3g} {} to the farthest corner (the "
+          "coefficients are not those of a real lens)",
+          r, extent, fisheye ? "rad" : "normalised radius");
+  }
+  return std::nullopt;
+}
+}  // namespace
+
 void validate_calibration(const StereoCalibration& calibration, const std::string& source) {
   const auto check_camera = [&](const CameraCalibration& c, const char* side) {
     const auto fail = [&](const char* field, const std::string& why) {
       throw std::runtime_error(fmt::format("{}: {} camera: field '{}' {}", source, side, field, why));
     };
     if (c.width <= 0 || c.height <= 0) fail("width/height", "missing or not positive");
-    if (!(c.fx > 0)) fail("fx", "missing or not positive");
-    if (!(c.fy > 0)) fail("fy", "missing or not positive");
-    if (!(c.cx > 0)) fail("cx", "missing or not positive");
-    if (!(c.cy > 0)) fail("cy", "missing or not positive");
+    if (!(c.fx > 0) || !std::isfinite(c.fx)) fail("fx", "missing, not positive or not finite");
+    if (!(c.fy > 0) || !std::isfinite(c.fy)) fail("fy", "missing, not positive or not finite");
+    if (!(c.cx > 0) || !std::isfinite(c.cx)) fail("cx", "missing, not positive or not finite");
+    if (!(c.cy > 0) || !std::isfinite(c.cy)) fail("cy", "missing, not positive or not finite");
     const std::size_t n = c.distortion_coeffs.size();
     if (c.distortion == DistortionModel::radtan && n != 4 && n != 5)
       fail("distortion_coeffs", fmt::format("radtan needs 4 or 5 coefficients, got {}", n));
     if (c.distortion == DistortionModel::equidistant && n != 4)
       fail("distortion_coeffs", fmt::format("equidistant needs 4 coefficients, got {}", n));
+    for (std::size_t i = 0; i < n; ++i)
+      if (!std::isfinite(c.distortion_coeffs[i]))
+        fail("distortion_coeffs", fmt::format("coefficient {} is {}", i, c.distortion_coeffs[i]));
+    if (const auto problem = radial_distortion_problem(c)) fail("distortion_coeffs", *problem);
+    if (!c.T_body_camera.matrix().allFinite()) fail("T_body_camera", "has a non-finite entry");
   };
   check_camera(calibration.left, "left");
   check_camera(calibration.right, "right");

@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "io/config.hpp"
+#include "io/image_io.hpp"
 
 namespace vkvo::io {
 
@@ -90,28 +91,8 @@ cv::Mat StereoDataset::load_left(std::size_t i) const { return load_image(frame(
 cv::Mat StereoDataset::load_right(std::size_t i) const { return load_image(frame(i).right, calibration_.right); }
 
 cv::Mat StereoDataset::load_image(const fs::path& file, const CameraCalibration& camera) const {
-  if (!fs::is_regular_file(file)) throw std::runtime_error(fmt::format("{}: image file is missing", file.string()));
-  cv::Mat raw;
-  try {
-    raw = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    throw std::runtime_error(fmt::format("{}: cannot decode image ({})", file.string(), e.what()));
-  }
-  if (raw.empty())
-    throw std::runtime_error(fmt::format("{}: cannot decode image (corrupt or unsupported)", file.string()));
-
-  cv::Mat gray = raw;
-  if (raw.channels() == 3)
-    cv::cvtColor(raw, gray, cv::COLOR_BGR2GRAY);
-  else if (raw.channels() == 4)
-    cv::cvtColor(raw, gray, cv::COLOR_BGRA2GRAY);
-  else if (raw.channels() != 1)
-    throw std::runtime_error(fmt::format("{}: unsupported channel count {}", file.string(), raw.channels()));
-  if (gray.depth() == CV_16U)
-    gray.convertTo(gray, CV_8U, 1.0 / 256.0);
-  else if (gray.depth() != CV_8U)
-    throw std::runtime_error(fmt::format("{}: unsupported pixel depth (expected 8 or 16 bit)", file.string()));
-
+  // The test fixtures' frames are a few pixels wide; images too small for the networks are refused by them by name.
+  const cv::Mat gray = read_gray_image(file, ImageLimits{.min_side = 1});
   if (camera.width > 0 && (gray.cols != camera.width || gray.rows != camera.height))
     throw std::runtime_error(fmt::format("{}: image is {}x{} but the calibration says {}x{}", file.string(), gray.cols,
                                          gray.rows, camera.width, camera.height));

@@ -35,11 +35,15 @@ struct CameraEntry {
 std::vector<CameraEntry> read_camera_csv(const fs::path& cam_dir) {
   const fs::path csv = cam_dir / "data.csv";
   std::vector<CameraEntry> entries;
+  TimestampSequence timestamps(csv);
   for_each_data_line(csv, [&](const std::string& line, std::size_t line_number) {
     const auto fields = split_fields(line, ',');
     if (fields.size() < 2)
       throw std::runtime_error(fmt::format("{}:{}: expected 'timestamp,filename'", csv.string(), line_number));
-    entries.push_back({parse_timestamp_ns(fields[0], csv, line_number), cam_dir / "data" / fields[1]});
+    const std::int64_t timestamp_ns = parse_timestamp_ns(fields[0], csv, line_number);
+    timestamps.add(static_cast<long double>(timestamp_ns), line_number);
+    require_path_inside(fields[1], csv, line_number);
+    entries.push_back({timestamp_ns, cam_dir / "data" / fields[1]});
   });
   return entries;
 }

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "io/atomic_file.hpp"
+
 namespace vkvo::io {
 
 namespace fs = std::filesystem;
@@ -15,11 +17,7 @@ void write_map_ply(const fs::path& file, const MapGeometry& map) {
   const std::size_t path_edges = map.trajectory.empty() ? 0 : map.trajectory.size() - 1;
   const std::size_t edge_count = map.lines.size() + path_edges;
 
-  if (file.has_parent_path()) fs::create_directories(file.parent_path());
-  const fs::path temporary = fs::path(file.string() + ".tmp");
-  {
-    std::ofstream out(temporary);
-    if (!out) throw std::runtime_error(fmt::format("{}: cannot open for writing", temporary.string()));
+  write_file_atomically(file, [&](std::ostream& out) {
     out << "ply\nformat ascii 1.0\ncomment vkvo map: points, 3D line segments (edges), camera path\n"
         << "element vertex " << vertex_count << "\n"
         << "property float x\nproperty float y\nproperty float z\n"
@@ -44,9 +42,7 @@ void write_map_ply(const fs::path& file, const MapGeometry& map) {
     const std::size_t first_path_vertex = first_line_vertex + line_vertices;
     for (std::size_t k = 0; k < path_edges; ++k)
       out << first_path_vertex + k << ' ' << first_path_vertex + k + 1 << " 40 220 40\n";
-    if (!out) throw std::runtime_error(fmt::format("{}: write failed", temporary.string()));
-  }
-  fs::rename(temporary, file);
+  });
 }
 
 }  // namespace vkvo::io

@@ -150,9 +150,14 @@ void ModelPack::AlignedFree::operator()(std::byte* p) const {
 }
 
 ModelPack ModelPack::load(const std::filesystem::path& path, NetworkKind expected) {
+  // A directory opens as a stream on Linux and reports a nonsense size; refuse it by name first.
+  if (std::filesystem::is_directory(path))
+    throw std::runtime_error(fmt::format("model pack '{}': is a directory, not a file", path.string()));
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw std::runtime_error(fmt::format("model pack '{}': cannot open the file", path.string()));
-  const auto size = static_cast<std::size_t>(in.tellg());
+  const std::streamoff end = in.tellg();
+  if (end < 0) throw std::runtime_error(fmt::format("model pack '{}': cannot determine the file size", path.string()));
+  const auto size = static_cast<std::size_t>(end);
   std::vector<std::byte> bytes(size);
   in.seekg(0);
   if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size)))

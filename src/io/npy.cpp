@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <istream>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -63,17 +64,24 @@ std::vector<size_t> parse_shape(const std::string& header, const std::filesystem
     const size_t first = item.find_first_not_of(' ');
     if (first == std::string::npos) continue;  // trailing comma of a 1-tuple
     const std::string digits = item.substr(first, item.find_last_not_of(' ') - first + 1);
-    size_t used = 0;
+    // stoull accepts a leading '-' (wrapping the value), so only plain digits are let through.
+    if (digits.find_first_not_of("0123456789") != std::string::npos)
+      fail(path, "shape entry '" + digits + "' is not a non-negative integer");
     unsigned long long value = 0;
     try {
-      value = std::stoull(digits, &used);
+      value = std::stoull(digits);
     } catch (const std::exception&) {
-      fail(path, "shape entry '" + digits + "' is not a number");
+      fail(path, "shape entry '" + digits + "' is out of range");
     }
-    if (used != digits.size()) fail(path, "shape entry '" + digits + "' is not a number");
     shape.push_back(static_cast<size_t>(value));
   }
   return shape;
+}
+
+std::string shape_text(const std::vector<size_t>& shape) {
+  std::string text = "(";
+  for (size_t i = 0; i < shape.size(); ++i) text += (i ? ", " : "") + std::to_string(shape[i]);
+  return text + ")";
 }
 
 template <typename T>
@@ -148,7 +156,25 @@ size_t NpyArray::element_count() const {
 
 size_t NpyArray::item_size() const { return dtype_item_size(dtype); }
 
+namespace {
+// Throws unless the array's data holds exactly product(shape) * item size bytes (arrays can be built by hand).
+void check_data_size(const NpyArray& array) {
+  const auto& shape = array.shape;
+  const size_t item = array.item_size();
+  size_t bytes = item;
+  for (size_t dim : shape) {
+    if (dim != 0 && bytes > std::numeric_limits<size_t>::max() / dim)
+      throw std::runtime_error("npy array shape " + shape_text(shape) + " overflows the byte count");
+    bytes *= dim;
+  }
+  if (bytes != array.data.size())
+    throw std::runtime_error("npy array shape " + shape_text(shape) + " of dtype " + array.dtype + " needs " +
+                             std::to_string(bytes) + " bytes, it holds " + std::to_string(array.data.size()));
+}
+}  // namespace
+
 std::vector<float> NpyArray::to_floats() const {
+  check_data_size(*this);
   const size_t n = element_count();
   std::vector<float> out(n);
   for (size_t i = 0; i < n; ++i) {
@@ -166,6 +192,7 @@ std::vector<float> NpyArray::to_floats() const {
 }
 
 std::vector<int32_t> NpyArray::to_int32s() const {
+  check_data_size(*this);
   const size_t n = element_count();
   std::vector<int32_t> out(n);
   for (size_t i = 0; i < n; ++i) {
@@ -184,8 +211,13 @@ std::vector<int32_t> NpyArray::to_int32s() const {
 }
 
 NpyArray read_npy(const std::filesystem::path& path) {
+  if (std::filesystem::is_directory(path)) fail(path, "is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open for reading");
+  return read_npy(in, path);
+}
+
+NpyArray read_npy(std::istream& in, const std::filesystem::path& path) {
   char magic[kMagicSize];
   in.read(magic, kMagicSize);
   if (!in || std::memcmp(magic, kMagic, kMagicSize) != 0) fail(path, "not a .npy file (bad magic)");
@@ -205,6 +237,11 @@ NpyArray read_npy(const std::filesystem::path& path) {
     fail(path, "unsupported format version " + std::to_string(version[0]));
   }
   if (!in) fail(path, "truncated header length");
+  // NumPy itself refuses headers over 10000 bytes by default; 1 MiB keeps a corrupt length from allocating GiBs.
+  constexpr size_t kMaxHeaderLength = size_t{1} << 20;
+  if (header_length > kMaxHeaderLength)
+    fail(path, "header length " + std::to_string(header_length) + " exceeds the limit of " +
+                   std::to_string(kMaxHeaderLength) + " bytes");
   std::string header(header_length, '\0');
   in.read(header.data(), static_cast<std::streamsize>(header_length));
   if (!in) fail(path, "truncated header");
@@ -216,7 +253,23 @@ NpyArray read_npy(const std::filesystem::path& path) {
   const size_t item = array.item_size();
   if (item == 0) fail(path, "unsupported dtype '" + array.dtype + "' (little-endian numeric types only)");
 
-  const size_t bytes = array.element_count() * item;
+  // The header is outside input: the byte count is computed with overflow checks and compared with what the
+  // stream holds before anything is allocated.
+  size_t bytes = item;
+  for (size_t dim : array.shape) {
+    if (dim != 0 && bytes > std::numeric_limits<size_t>::max() / dim)
+      fail(path, "shape " + shape_text(array.shape) + " overflows the byte count");
+    bytes *= dim;
+  }
+  const std::streampos data_start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streampos stream_end = in.tellg();
+  in.seekg(data_start);
+  if (data_start < 0 || stream_end < 0 || !in) fail(path, "cannot determine the data size");
+  const auto available = static_cast<size_t>(stream_end - data_start);
+  if (bytes > available)
+    fail(path, "data truncated: shape " + shape_text(array.shape) + " needs " + std::to_string(bytes) +
+                   " bytes, the file holds " + std::to_string(available));
   array.data.resize(bytes);
   in.read(reinterpret_cast<char*>(array.data.data()), static_cast<std::streamsize>(bytes));
   if (static_cast<size_t>(in.gcount()) != bytes)

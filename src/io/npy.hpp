@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,8 @@ struct NpyArray {
 
 // Reads a whole .npy file. Throws std::runtime_error naming the file on any malformed or unsupported content.
 NpyArray read_npy(const std::filesystem::path& path);
+// Reads a .npy image from a seekable stream; `name` is the file named in error messages.
+NpyArray read_npy(std::istream& in, const std::filesystem::path& name);
 
 // Writes a C-order .npy file (format 1.0) with the given shape; `values` holds product(shape) elements.
 void write_npy(const std::filesystem::path& path, const std::vector<size_t>& shape, const float* values);

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "io/atomic_file.hpp"
 #include "io/yaml_utils.hpp"
 
 namespace vkvo::io {
@@ -12,15 +13,7 @@ namespace vkvo::io {
 namespace fs = std::filesystem;
 
 void write_json_file(const fs::path& file, const nlohmann::json& document) {
-  if (file.has_parent_path()) fs::create_directories(file.parent_path());
-  const fs::path temporary = fs::path(file.string() + ".tmp");
-  {
-    std::ofstream out(temporary);
-    if (!out) throw std::runtime_error(fmt::format("{}: cannot open for writing", temporary.string()));
-    out << document.dump(2) << '\n';
-    if (!out) throw std::runtime_error(fmt::format("{}: write failed", temporary.string()));
-  }
-  fs::rename(temporary, file);
+  write_file_atomically(file, [&](std::ostream& out) { out << document.dump(2) << '\n'; });
 }
 
 nlohmann::json to_json(const CameraCalibration& camera) {

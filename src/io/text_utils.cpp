@@ -3,7 +3,9 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -79,12 +81,45 @@ std::int64_t parse_timestamp_ns(const std::string& text, const std::filesystem::
   if (ok && dot != std::string::npos) {  // a fraction of a nanosecond: must be digits, rounded away
     const std::string fraction = text.substr(dot + 1);
     ok = fraction.find_first_not_of("0123456789") == std::string::npos;
-    if (ok && !fraction.empty() && fraction[0] >= '5') ++value;
+    if (ok && !fraction.empty() && fraction[0] >= '5') {
+      ok = value < std::numeric_limits<std::int64_t>::max();
+      if (ok) ++value;
+    }
   }
   if (!ok)
     throw std::runtime_error(
         fmt::format("{}:{}: '{}' is not a nanosecond timestamp", file.string(), line_number, text));
   return value;
+}
+
+TimestampSequence::TimestampSequence(std::filesystem::path file, std::string what)
+    : file_(std::move(file)), what_(std::move(what)) {}
+
+void TimestampSequence::add(long double timestamp, std::size_t line_number) {
+  // Nanosecond integers print whole, seconds as they were read.
+  const auto text = [](long double t) {
+    return t == std::floor(t) && std::fabs(t) < 1e19L ? fmt::format("{:.0f}", t) : fmt::format("{}", t);
+  };
+  if (!std::isfinite(timestamp) || timestamp < 0)
+    throw std::runtime_error(
+        fmt::format("{}:{}: {} {} is negative or not finite", file_.string(), line_number, what_, text(timestamp)));
+  if (previous_line_ != 0 && timestamp == previous_)
+    throw std::runtime_error(fmt::format("{}:{}: duplicate {} {} (also on line {})", file_.string(), line_number, what_,
+                                         text(timestamp), previous_line_));
+  if (previous_line_ != 0 && timestamp < previous_)
+    throw std::runtime_error(fmt::format("{}:{}: {} {} is earlier than {} on line {} (not increasing)", file_.string(),
+                                         line_number, what_, text(timestamp), text(previous_), previous_line_));
+  previous_ = timestamp;
+  previous_line_ = line_number;
+}
+
+void require_path_inside(const std::filesystem::path& entry, const std::filesystem::path& file,
+                         std::size_t line_number) {
+  bool climbs = entry.is_absolute() || entry.has_root_name() || entry.has_root_directory() || entry.empty();
+  for (const auto& part : entry) climbs = climbs || part == "..";
+  if (climbs)
+    throw std::runtime_error(fmt::format("{}:{}: path '{}' is empty, absolute or leaves the dataset folder with '..'",
+                                         file.string(), line_number, entry.string()));
 }
 
 }  // namespace vkvo::io

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "io/atomic_file.hpp"
 #include "io/dataset.hpp"
 #include "io/text_utils.hpp"
 #include "io/yaml_utils.hpp"
@@ -44,10 +45,11 @@ TumTrajectoryWriter::TumTrajectoryWriter(const fs::path& file, bool append) : pa
   if (file.has_parent_path()) fs::create_directories(file.parent_path());
   file_ = std::fopen(file.c_str(), append ? "a" : "w");
   if (!file_)
-    throw std::runtime_error(fmt::format("{}: cannot open trajectory file ({})", file.string(), std::strerror(errno)));
+    throw OutputWriteError(fmt::format("{}: cannot open trajectory file ({})", file.string(), std::strerror(errno)));
 }
 
 TumTrajectoryWriter::~TumTrajectoryWriter() {
+  // Every line was flushed and checked when written; a failure here cannot lose data already reported written.
   if (file_) std::fclose(file_);
 }
 
@@ -64,7 +66,7 @@ void TumTrajectoryWriter::write_line(const std::string& time_text, const Eigen::
 void TumTrajectoryWriter::write_text(const std::string& line) {
   // One fwrite + fflush per pose: the line reaches the OS before the next frame is processed.
   if (std::fwrite(line.data(), 1, line.size(), file_) != line.size() || std::fflush(file_) != 0)
-    throw std::runtime_error(fmt::format("{}: write failed ({})", path_.string(), std::strerror(errno)));
+    throw OutputWriteError(fmt::format("{}: write failed ({})", path_.string(), std::strerror(errno)));
   ++lines_;
 }
 
@@ -168,8 +170,10 @@ Trajectory read_positions(const fs::path& file) {
 
 std::vector<double> read_kitti_times(const fs::path& file) {
   std::vector<double> times;
+  TimestampSequence sequence(file);
   for_each_data_line(file, [&](const std::string& line, std::size_t line_number) {
     times.push_back(parse_double(line, file, line_number));
+    sequence.add(times.back(), line_number);
   });
   return times;
 }

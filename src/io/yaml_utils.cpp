@@ -23,6 +23,8 @@ YAML::Node parse_yaml(const std::string& text, const std::string& origin) {
 }
 
 YAML::Node load_yaml_file(const std::filesystem::path& file) {
+  if (std::filesystem::is_directory(file))
+    throw std::runtime_error(fmt::format("{}: is a directory, not a YAML file", file.string()));
   std::ifstream in(file);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open YAML file", file.string()));
   std::ostringstream text;

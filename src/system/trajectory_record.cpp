@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <system_error>
 
 #include <fmt/format.h>
 
+#include "io/atomic_file.hpp"
 #include "io/frame_status.hpp"
 #include "io/trajectory.hpp"
 
@@ -32,14 +34,14 @@ bool is_tracked(PoseState state) { return state == PoseState::tracked || state =
 std::FILE* open_file(const fs::path& path, const char* mode) {
   std::FILE* file = std::fopen(path.c_str(), mode);
   if (!file)
-    throw std::runtime_error(fmt::format("cannot open {} for writing: {}", path.string(), std::strerror(errno)));
+    throw io::OutputWriteError(fmt::format("cannot open {} for writing: {}", path.string(), std::strerror(errno)));
   return file;
 }
 
 void write_or_throw(std::FILE* file, const std::string& text, const fs::path& path) {
   if (text.empty()) return;
   if (std::fputs(text.c_str(), file) < 0 || std::fflush(file) != 0)
-    throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), std::strerror(errno)));
+    throw io::OutputWriteError(fmt::format("cannot write {}: {}", path.string(), std::strerror(errno)));
 }
 
 // Writes `text` into a new file beside `path` and renames it over `path`.
@@ -47,9 +49,17 @@ void replace_file(const fs::path& path, const std::string& text) {
   const fs::path partial = path.string() + ".partial";
   std::FILE* file = open_file(partial, "w");
   const bool written = text.empty() || (std::fputs(text.c_str(), file) >= 0 && std::fflush(file) == 0);
-  if (std::fclose(file) != 0 || !written)
-    throw std::runtime_error(fmt::format("cannot write {}: {}", partial.string(), std::strerror(errno)));
-  fs::rename(partial, path);
+  if (std::fclose(file) != 0 || !written) {
+    const std::string reason = std::strerror(errno);
+    std::error_code ignored;
+    fs::remove(partial, ignored);
+    throw io::OutputWriteError(fmt::format("cannot write {}: {}; {} is kept", partial.string(), reason, path.string()));
+  }
+  std::error_code error;
+  fs::rename(partial, path, error);
+  if (error)
+    throw io::OutputWriteError(
+        fmt::format("cannot rename {} to {}: {}", partial.string(), path.string(), error.message()));
 }
 
 }  // namespace

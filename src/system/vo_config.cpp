@@ -4,6 +4,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
+#include "io/validation.hpp"
+
 namespace vkvo::system {
 
 TrackingParams load_tracking_params(const YAML::Node& section) {
@@ -22,11 +26,20 @@ TrackingParams load_tracking_params(const YAML::Node& section) {
 
 VoConfig load_vo_config(const io::Config& config) {
   io::KeyReadLog key_log;  // every section below is parsed, so a key that no loader reads is a mistake
+  io::validate_config_values(config);
   VoConfig vo;
   vo.origin = config.origin();
   vo.tracking = load_tracking_params(config.section("tracking"));
   vo.lines = features::load_line_pipeline_params(config.section("lines"));
   vo.triangulation = geometry::load_triangulation_params(config.section("stereo"));
+  if (!(vo.triangulation.min_depth < vo.triangulation.max_depth)) {
+    const YAML::Node stereo = config.section("stereo");
+    throw std::runtime_error(
+        io::config_error_message(config.origin(), "stereo.min_depth",
+                                 stereo["min_depth"].IsDefined() ? stereo["min_depth"] : stereo["max_depth"],
+                                 fmt::format("min_depth {} must be less than max_depth {}", vo.triangulation.min_depth,
+                                             vo.triangulation.max_depth)));
+  }
   vo.optimization = backend::load_optimization_params(config.section("optimization"));
   vo.keyframe = backend::load_keyframe_params(config.section("keyframe"));
   vo.map = map::load_map_params(config.section("map"));
@@ -63,6 +76,10 @@ VoConfig load_vo_config(const io::Config& config) {
 }
 
 VoConfig load_vo_config(const std::filesystem::path& file) { return load_vo_config(io::Config::load(file)); }
+
+VoConfig load_vo_config_or_defaults(const std::filesystem::path& file) {
+  return load_vo_config(file.empty() ? io::Config() : io::Config::load(file));
+}
 
 io::StereoCalibration config_calibration(const VoConfig& config) {
   io::StereoCalibration calibration = io::apply_camera_overrides(config.dataset.camera_overrides, {});

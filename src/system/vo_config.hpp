@@ -67,6 +67,9 @@ VoConfig load_vo_config(const io::Config& config);
 // times min(1, area / tracking.reference_image_area), rounded, but not below 2 x keyframe.min_tracked (a new
 // map must start well above the tracking-failure threshold).
 VoConfig scale_to_image(const VoConfig& config, int width, int height);
+// Every command that takes --config reads it through here (empty path: the defaults), so each one rejects the same
+// unknown keys and out-of-range values, whichever sections it uses.
+VoConfig load_vo_config_or_defaults(const std::filesystem::path& file);
 VoConfig load_vo_config(const std::filesystem::path& file);
 
 // The stereo calibration that the config's `camera:` section gives on its own (its `kalibr` file, or the cameras'

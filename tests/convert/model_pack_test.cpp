@@ -191,6 +191,12 @@ TEST(ModelPack, ForeignFileAndMissingFileAreReported) {
                {"absent.vkvopack", "cannot open"});
 }
 
+// Issue 36: a directory given as the model used to end in std::bad_alloc.
+TEST(ModelPack, DirectoryIsReportedByName) {
+  const auto dir = test::temp_dir("pack_directory");
+  expect_error([&] { ModelPack::load(dir, NetworkKind::superpoint); }, {dir.string(), "is a directory"});
+}
+
 TEST(ModelPack, MissingTensorAndHyperParameterAreNamed) {
   const auto path = SmallPack{}.write("pack_missing");
   const ModelPack pack = ModelPack::load(path, NetworkKind::superpoint);

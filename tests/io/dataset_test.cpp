@@ -317,3 +317,36 @@ TEST(OpenDataset, RejectsUnknownFolders) {
   EXPECT_NE(error_of([&] { io::open_dataset(dir); }).find("not a recognised dataset"), std::string::npos);
   EXPECT_NE(error_of([&] { io::open_dataset(dir / "absent"); }).find("does not exist"), std::string::npos);
 }
+
+// Issue 36: data.csv timestamps must increase and its file names stay inside the dataset folder.
+TEST(EurocDataset, DuplicateNegativeAndBackwardTimestampsNameFileAndLine) {
+  const auto check = [](const std::string& tag, const std::string& csv, const std::vector<std::string>& fragments) {
+    const fs::path mav0 = write_euroc(test::temp_dir(tag));
+    write_text(mav0 / "cam0" / "data.csv", csv);
+    const std::string message = error_of([&] { io::EurocDataset dataset(mav0); });
+    EXPECT_NE(message.find((mav0 / "cam0" / "data.csv").string()), std::string::npos) << message;
+    for (const auto& fragment : fragments) EXPECT_NE(message.find(fragment), std::string::npos) << message;
+  };
+  check("euroc_dup", "#t,f\n100,a.png\n100,b.png\n", {":3:", "duplicate", "line 2"});
+  check("euroc_back", "#t,f\n200,a.png\n100,b.png\n", {":3:", "earlier", "line 2"});
+  check("euroc_negative", "#t,f\n-5,a.png\n", {":2:", "negative"});
+}
+
+TEST(EurocDataset, IndexPathsLeavingTheDatasetAreRejected) {
+  for (const std::string& name :
+       {std::string("../../etc/passwd"), std::string("/etc/passwd"), std::string("sub/../../x.png")}) {
+    const fs::path mav0 = write_euroc(test::temp_dir("euroc_escape"));
+    write_text(mav0 / "cam0" / "data.csv", "#t,f\n100," + name + "\n");
+    const std::string message = error_of([&] { io::EurocDataset dataset(mav0); });
+    EXPECT_NE(message.find("leaves the dataset folder"), std::string::npos) << message;
+    EXPECT_NE(message.find(":2:"), std::string::npos) << message;
+  }
+}
+
+TEST(KittiDataset, NonIncreasingTimesAreRejected) {
+  const fs::path seq = write_kitti(test::temp_dir("kitti_times"), 3, kLabelledCalib, true);
+  write_text(seq / "times.txt", "0.0\n0.1\n0.1\n");
+  const std::string message = error_of([&] { io::open_dataset(seq); });
+  EXPECT_NE(message.find("times.txt:3:"), std::string::npos) << message;
+  EXPECT_NE(message.find("duplicate"), std::string::npos) << message;
+}

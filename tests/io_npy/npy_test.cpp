@@ -127,6 +127,35 @@ TEST(Npy, ErrorsNameTheFileAndTheProblem) {
   expect_error(dir / "short.npy", "truncated");
 }
 
+// Issue 36: a header whose shape overflows the byte count used to pass the size check and crash the reader.
+TEST(Npy, HostileShapesAreRejectedBeforeAnyAllocation) {
+  const auto dir = test::temp_dir("npy_hostile");
+  auto expect_error = [&](const std::string& name, const std::string& shape, const std::string& fragment) {
+    const auto path = dir / name;
+    test::write_text(
+        path, npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': " + shape + ", }", std::string(16, '\0')));
+    try {
+      read_npy(path);
+      ADD_FAILURE() << "no error for shape " << shape;
+    } catch (const std::runtime_error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+      EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    }
+  };
+  expect_error("overflow.npy", "(4611686018427387904, 4)", "overflows the byte count");
+  expect_error("huge.npy", "(1000000000, 1000000000)", "data truncated");
+  expect_error("negative.npy", "(-1, 2)", "not a non-negative integer");
+  expect_error("too_long.npy", "(99999999999999999999999,)", "out of range");
+  expect_error("directory_is_fine_name.npy", "(2, 3)", "needs 24 bytes");
+  EXPECT_THROW(read_npy(dir), std::runtime_error);
+}
+
+TEST(Npy, HandBuiltArrayWithTooLittleDataThrows) {
+  NpyArray array{{4}, "<f4", std::vector<std::byte>(8)};
+  EXPECT_THROW(array.to_floats(), std::runtime_error);
+}
+
 TEST(Npy, ConversionToTheWrongTypeThrows) {
   NpyArray array{{2}, "<f4", std::vector<std::byte>(8)};
   EXPECT_THROW(array.to_int32s(), std::runtime_error);

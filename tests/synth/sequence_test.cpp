@@ -1,5 +1,6 @@
 // The written dataset layout (EuRoC/ASL + TUM) and the default preset's motion and viewing depths.
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <set>
 
@@ -97,6 +98,31 @@ TEST(SynthConfig, YamlOverridesAndTypeErrors) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("frames"), std::string::npos) << e.what();
   }
+}
+
+// Issue 36: a zero resolution used to crash the renderer; every unusable value is refused by name before rendering.
+TEST(SynthConfig, UnusableValuesAreRefusedByName) {
+  auto expect_refused = [](SynthConfig c, const std::string& fragment) {
+    try {
+      write_synthetic_sequence(c, test::temp_dir("synth_refused") / "out", nullptr);
+      ADD_FAILURE() << "no exception for " << fragment;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  SynthConfig c = synth_preset("small");
+  c.rig.width = 0;
+  expect_refused(c, "resolution 0x240");
+  c = synth_preset("small");
+  c.rig.height = 100000;
+  expect_refused(c, "resolution 320x100000");
+  c = synth_preset("small");
+  c.rate_hz = std::nan("");
+  expect_refused(c, "rate_hz");
+  c = synth_preset("small");
+  c.num_frames = 0;
+  expect_refused(c, "frames");
+  EXPECT_NO_THROW(validate_synth_config(synth_preset("small")));
 }
 
 // The demo's camera: about 0.5 m/s, inside the free part of the room, looking at surfaces 1-6 m away.

@@ -106,3 +106,25 @@ TEST(VoConfig, CameraSectionAloneGivesTheCalibration) {
 
 }  // namespace
 }  // namespace vkvo::system
+
+// Issue 36: semantic checks in load_vo_config, which every command that takes --config goes through.
+TEST(VoConfig, OutOfRangeAndInconsistentValuesNameFileKeyAndLine) {
+  const auto message_of = [](const std::string& yaml) {
+    return vkvo::test::error_of(
+        [&] { vkvo::system::load_vo_config(vkvo::io::Config::from_string(yaml, "user.yaml")); });
+  };
+  const std::string threads = message_of("optimization:\n  num_threads: -4\n");
+  EXPECT_NE(threads.find("user.yaml: optimization.num_threads (line 2)"), std::string::npos) << threads;
+  const std::string depths = message_of("stereo:\n  min_depth: 5.0\n  max_depth: 2.0\n");
+  EXPECT_NE(depths.find("stereo.min_depth (line 2)"), std::string::npos) << depths;
+  EXPECT_NE(depths.find("less than max_depth 2"), std::string::npos) << depths;
+  // Only max_depth given, below the default min_depth: the relation is checked on the parsed values.
+  EXPECT_NE(message_of("stereo:\n  max_depth: 0.05\n").find("min_depth"), std::string::npos);
+  EXPECT_NE(message_of("nn_matcher:\n  ratio: .nan\n").find("not a finite number"), std::string::npos);
+}
+
+TEST(VoConfig, DirectoryAsConfigIsNamed) {
+  const auto dir = vkvo::test::temp_dir("vo_config_dir");
+  EXPECT_NE(vkvo::test::error_of([&] { vkvo::system::load_vo_config_or_defaults(dir); }).find("is a directory"),
+            std::string::npos);
+}

@@ -1,6 +1,8 @@
 #include "tools/synth/config.hpp"
 
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -23,6 +25,37 @@ SynthConfig synth_preset(std::string_view name) {
     return config;
   }
   throw std::runtime_error(fmt::format("synth: unknown preset '{}' (default, small)", name));
+}
+
+void validate_synth_config(const SynthConfig& c) {
+  auto fail = [](const std::string& problem) { throw std::runtime_error("synth: " + problem); };
+  // Images above 8192 px a side (or 64 Mpx) are far beyond any camera the tools model and would take GiBs per frame.
+  constexpr int kMaxSide = 8192;
+  constexpr long long kMaxPixels = 64LL << 20;
+  if (c.rig.width < 16 || c.rig.height < 16 || c.rig.width > kMaxSide || c.rig.height > kMaxSide ||
+      static_cast<long long>(c.rig.width) * c.rig.height > kMaxPixels)
+    fail(fmt::format("resolution {}x{} is outside 16x16 .. {}x{} (at most {} pixels)", c.rig.width, c.rig.height,
+                     kMaxSide, kMaxSide, kMaxPixels));
+  if (c.num_frames < 1) fail(fmt::format("frames must be at least 1, got {}", c.num_frames));
+  auto positive = [&](const char* name, double value) {
+    if (!std::isfinite(value) || value <= 0)
+      fail(fmt::format("{} must be a positive finite number, got {}", name, value));
+  };
+  auto finite = [&](const char* name, double value) {
+    if (!std::isfinite(value)) fail(fmt::format("{} must be finite, got {}", name, value));
+  };
+  positive("rate_hz", c.rate_hz);
+  positive("fx", c.rig.fx);
+  positive("fy", c.rig.fy);
+  finite("cx", c.rig.cx);
+  finite("cy", c.rig.cy);
+  positive("baseline", c.rig.baseline);
+  finite("speed", c.trajectory.speed);
+  finite("yaw_rate_deg", c.trajectory.yaw_rate_deg);
+  positive("texels_per_meter", c.scene.texels_per_meter);
+  positive("exposure", c.sensor.exposure);
+  if (c.scene.num_boxes < 0) fail(fmt::format("num_boxes must be at least 0, got {}", c.scene.num_boxes));
+  if (c.sensor.blur_samples < 1) fail(fmt::format("blur_samples must be at least 1, got {}", c.sensor.blur_samples));
 }
 
 SynthConfig load_synth_params(const YAML::Node& section) {

@@ -51,4 +51,8 @@ SynthConfig synth_preset(std::string_view name);
 // naming the key.
 SynthConfig load_synth_params(const YAML::Node& section);
 
+// Throws std::runtime_error naming the parameter when a value cannot render (a resolution below 16x16 or beyond
+// 8192 a side, non-positive rate, focal length or baseline, a NaN, ...). write_synthetic_sequence calls it.
+void validate_synth_config(const SynthConfig& config);
+
 }  // namespace vkvo::synth

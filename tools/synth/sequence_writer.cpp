@@ -145,6 +145,7 @@ void write_asl_sequence(const StereoRenderer& renderer, const fs::path& out_dir,
 }
 
 void write_synthetic_sequence(const SynthConfig& config, const fs::path& out_dir, const ProgressCallback& progress) {
+  validate_synth_config(config);
   write_asl_sequence(StereoRenderer(config), out_dir, progress);
 }
 

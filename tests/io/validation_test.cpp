@@ -1,0 +1,89 @@
+// io::validate_config_values and io::validate_calibration: every number a user gives is finite and in range, the
+// message naming the file, the key path and its line (issue 36).
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/test_support.hpp"
+#include "io/config.hpp"
+#include "io/validation.hpp"
+
+using namespace vkvo;
+using test::error_of;
+
+namespace {
+
+void expect_rejected(const std::string& yaml, const std::vector<std::string>& fragments) {
+  const auto config = io::Config::from_string(yaml, "bad.yaml");
+  const std::string message = error_of([&] { io::validate_config_values(config); });
+  ASSERT_NE(message, "<no exception>") << "accepted:\n" << yaml;
+  EXPECT_NE(message.find("bad.yaml"), std::string::npos) << message;
+  for (const auto& fragment : fragments) EXPECT_NE(message.find(fragment), std::string::npos) << message;
+}
+
+io::CameraCalibration pinhole() {
+  io::CameraCalibration c;
+  c.width = 752, c.height = 480, c.fx = 458.0, c.fy = 457.0, c.cx = 367.0, c.cy = 248.0;
+  return c;
+}
+
+io::StereoCalibration stereo_of(const io::CameraCalibration& left) {
+  io::StereoCalibration s;
+  s.left = left;
+  s.right = left;
+  s.right.T_body_camera.translation().x() = 0.11;
+  return s;
+}
+
+}  // namespace
+
+TEST(ConfigValidation, NegativeThreadCountNamesKeyPathAndLine) {
+  expect_rejected("tracking:\n  use_lines: true\noptimization:\n  num_threads: -2\n",
+                  {"optimization.num_threads", "line 4", "-2", "[1, inf)"});
+}
+
+TEST(ConfigValidation, NanAndInfinityAreRejectedAnywhere) {
+  expect_rejected("point_matcher:\n  match_threshold: .nan\n", {"point_matcher.match_threshold", "line 2", "finite"});
+  expect_rejected("camera:\n  left:\n    distortion_coeffs: [0.1, .inf, 0, 0]\n",
+                  {"camera.left.distortion_coeffs[1]", "line 3", "finite"});
+}
+
+TEST(ConfigValidation, ThresholdsAndRatiosOutsideTheUnitInterval) {
+  expect_rejected("nn_matcher:\n  ratio: 1.5\n", {"nn_matcher.ratio", "[0, 1]"});
+  expect_rejected("point_detector:\n  keypoint_threshold: -0.1\n", {"point_detector.keypoint_threshold"});
+  expect_rejected("stereo:\n  max_depth: -3\n", {"stereo.max_depth", "(0, inf)"});
+}
+
+TEST(ConfigValidation, ShippedConfigsPass) {
+  for (const auto& entry : std::filesystem::directory_iterator(test::source_dir() / "config")) {
+    if (entry.path().extension() != ".yaml") continue;
+    EXPECT_NO_THROW(io::validate_config_values(io::Config::load(entry.path()))) << entry.path();
+  }
+}
+
+TEST(CalibrationValidation, NonFiniteAndAbsurdDistortionAreRejected) {
+  io::CameraCalibration c = pinhole();
+  c.distortion = io::DistortionModel::radtan;
+  c.distortion_coeffs = {-0.28, 0.07, 0.0002, 0.00002};  // EuRoC MH_01 cam0
+  EXPECT_NO_THROW(io::validate_calibration(stereo_of(c), "cam.yaml"));
+  c.distortion_coeffs[0] = std::nan("");
+  EXPECT_NE(error_of([&] { io::validate_calibration(stereo_of(c), "cam.yaml"); }).find("distortion_coeffs"),
+            std::string::npos);
+  c.distortion_coeffs[0] = -1e6;
+  const std::string message = error_of([&] { io::validate_calibration(stereo_of(c), "cam.yaml"); });
+  EXPECT_NE(message.find("folds over"), std::string::npos) << message;
+  EXPECT_NE(message.find("cam.yaml"), std::string::npos) << message;
+}
+
+TEST(CalibrationValidation, InfiniteIntrinsicsAreRejected) {
+  io::CameraCalibration c = pinhole();
+  c.cx = std::numeric_limits<double>::infinity();
+  EXPECT_NE(error_of([&] { io::validate_calibration(stereo_of(c), "cam.yaml"); }).find("cx"), std::string::npos);
+  c = pinhole();
+  c.fx = std::numeric_limits<double>::infinity();
+  EXPECT_NE(error_of([&] { io::validate_calibration(stereo_of(c), "cam.yaml"); }).find("fx"), std::string::npos);
+}
