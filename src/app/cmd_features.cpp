@@ -16,6 +16,7 @@
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "features/superpoint.hpp"
+#include "io/atomic_file.hpp"
 #include "io/image_io.hpp"
 #include "io/model_pack.hpp"
 #include "io/npy.hpp"
@@ -49,7 +50,7 @@ int run_features(const FeaturesOptions& o) {
                image.cols, image.rows, result.size(), superpoint.last_candidate_count(),
                rt::to_string(superpoint.precision()), context.caps().name, ms);
 
-  fs::create_directories(o.out);
+  vkvo::io::create_output_folder(o.out);
   const fs::path out(o.out);
   std::vector<float> xy;
   for (const auto& k : result.keypoints) xy.insert(xy.end(), {k.x(), k.y()});

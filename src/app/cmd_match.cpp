@@ -17,6 +17,7 @@
 #include "app/command.hpp"
 #include "app/device_options.hpp"
 #include "features/nn_matcher.hpp"
+#include "io/atomic_file.hpp"
 #include "features/superglue.hpp"
 #include "io/config.hpp"
 #include "io/npy.hpp"
@@ -93,7 +94,7 @@ int run(const MatchOptions& o) {
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   spdlog::info("{} x {} keypoints: {} matches ({:.1f} ms)", a.size(), b.size(), matches.count(), ms);
 
-  fs::create_directories(o.out);
+  vkvo::io::create_output_folder(o.out);
   const fs::path out(o.out);
   io::write_npy(out / "matches0.npy", {matches.matches0.size()}, matches.matches0.data());
   io::write_npy(out / "matching_scores0.npy", {matches.scores0.size()}, matches.scores0.data());

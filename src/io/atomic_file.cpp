@@ -11,6 +11,13 @@ namespace vkvo::io {
 
 namespace fs = std::filesystem;
 
+void create_output_folder(const fs::path& folder) {
+  if (folder.empty()) return;
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (error) throw OutputWriteError(fmt::format("output folder {}: cannot create it ({})", folder.string(), error.message()));
+}
+
 void write_file_atomically(const fs::path& file, const std::function<void(std::ostream&)>& fill,
                            std::ios::openmode mode) {
   const fs::path temporary = fs::path(file.string() + ".tmp");
@@ -21,9 +28,8 @@ void write_file_atomically(const fs::path& file, const std::function<void(std::o
     throw OutputWriteError(
         fmt::format("{}: {} failed ({}); the previous file, if any, is kept", file.string(), step, reason));
   };
+  create_output_folder(file.parent_path());
   std::error_code error;
-  if (file.has_parent_path()) fs::create_directories(file.parent_path(), error);
-  if (error) throw OutputWriteError(fmt::format("{}: cannot create the folder ({})", file.string(), error.message()));
   errno = 0;
   std::ofstream out(temporary, mode | std::ios::out | std::ios::trunc);
   if (!out) fail("opening " + temporary.string());

@@ -15,6 +15,10 @@ class OutputWriteError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Creates `folder` and its parents; throws OutputWriteError naming the folder and the reason (an output failure,
+// exit code 3, not bad input).
+void create_output_folder(const std::filesystem::path& folder);
+
 // Creates the parent folders, writes through `fill` and renames; throws OutputWriteError naming the file and the
 // step that failed (the temporary file is removed).
 void write_file_atomically(const std::filesystem::path& file, const std::function<void(std::ostream&)>& fill,

@@ -42,7 +42,7 @@ std::string tum_text(const std::string& time_text, const Eigen::Isometry3d& pose
 }  // namespace
 
 TumTrajectoryWriter::TumTrajectoryWriter(const fs::path& file, bool append) : path_(file) {
-  if (file.has_parent_path()) fs::create_directories(file.parent_path());
+  create_output_folder(file.parent_path());
   file_ = std::fopen(file.c_str(), append ? "a" : "w");
   if (!file_)
     throw OutputWriteError(fmt::format("{}: cannot open trajectory file ({})", file.string(), std::strerror(errno)));
@@ -119,12 +119,14 @@ std::string first_data_line(const fs::path& file) {
 
 Trajectory read_tum(const fs::path& file) {
   Trajectory trajectory;
+  TimestampSequence timestamps(file, "timestamp");
   for_each_data_line(file, [&](const std::string& line, std::size_t line_number) {
     const auto fields = split_numbers(line);
     if (fields.size() != 8)
       throw std::runtime_error(fmt::format("{}:{}: expected 8 numbers 't x y z qx qy qz qw', got {}", file.string(),
                                            line_number, fields.size()));
     const auto v = parse_all(fields, file, line_number);
+    timestamps.add(v[0], line_number);
     trajectory.push_back(
         {v[0], pose_from({v[1], v[2], v[3]}, Eigen::Quaterniond(v[7], v[4], v[5], v[6]), file, line_number)});
   });
@@ -134,6 +136,7 @@ Trajectory read_tum(const fs::path& file) {
 Trajectory read_euroc_csv(const fs::path& file, std::size_t* columns) {
   Trajectory trajectory;
   std::size_t column_count = 0;
+  TimestampSequence timestamps(file, "timestamp");
   for_each_data_line(file, [&](const std::string& line, std::size_t line_number) {
     const auto fields = split_fields(line, ',');
     if (fields.size() < 8)
@@ -141,6 +144,7 @@ Trajectory read_euroc_csv(const fs::path& file, std::size_t* columns) {
                                            file.string(), line_number, fields.size()));
     if (column_count == 0) column_count = fields.size();
     const std::int64_t ns = parse_timestamp_ns(fields[0], file, line_number);
+    timestamps.add(static_cast<long double>(ns), line_number);
     const auto v = parse_all(std::vector<std::string>(fields.begin() + 1, fields.begin() + 8), file, line_number);
     trajectory.push_back(
         {static_cast<double>(ns) * 1e-9,

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "eval/evaluate.hpp"
+#include "io/atomic_file.hpp"
 #include "io/frame_status.hpp"
 #include "io/map_ply.hpp"
 #include "io/run_summary.hpp"
@@ -101,7 +102,7 @@ nlohmann::json evaluate_outputs(const io::StereoDataset& dataset, const RunResul
 
 RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, PointFrontend& feature_frontend,
                  PointFrontend& stereo_frontend, const RunOptions& options) {
-  std::filesystem::create_directories(options.output_dir);
+  io::create_output_folder(options.output_dir);
   RunResult result;
   result.trajectory = options.output_dir / "trajectory.txt";
   result.keyframes_file = options.output_dir / "keyframes.txt";
@@ -157,7 +158,8 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
         odometry, on_pose,
         {.queue_capacity = static_cast<std::size_t>(config.tracking.queue_capacity), .when_full = QueueFull::block});
     stream_counts = &stream;
-    for (std::size_t next = 0; next < dataset.size() && !(options.stop && options.stop->load()); ++next) {
+    std::size_t next = 0;
+    for (; next < dataset.size() && !(options.stop && options.stop->load()); ++next) {
       const auto& frame = dataset.frame(next);
       if (options.realtime) {
         const auto due = start + std::chrono::duration<double>(frame.timestamp_s - first_timestamp);
@@ -171,6 +173,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
         ++unreadable;
       }
     }
+    result.stopped_early = next < dataset.size();
     stream.finish();
     result.frames_skipped = unreadable + stream.failed();
   }
@@ -203,6 +206,8 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   summary["dataset"] = io::describe_dataset(dataset);
   summary["config"] = config.origin.string();
   summary["frames"] = result.frames;
+  summary["frames_in_dataset"] = dataset.size();
+  summary["stopped_early"] = result.stopped_early;
   summary["frames_skipped"] = result.frames_skipped;
   summary["frames_tracked"] = result.frames_tracked;
   summary["frames_bridged"] = result.frames_bridged;

@@ -43,6 +43,7 @@ struct RunOptions {
 struct RunResult {
   std::size_t frames = 0;          // frames processed
   std::size_t frames_skipped = 0;  // unreadable images
+  bool stopped_early = false;      // RunOptions::stop ended the run before the dataset's last frame
   std::size_t frames_tracked = 0;  // frames whose pose came from the optimisation (the rest: predicted)
   // Frames whose pose was predicted, as FrameInput::index: the position in the processed range, not in the dataset.
   std::vector<std::size_t> untracked_frames;

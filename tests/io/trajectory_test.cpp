@@ -78,6 +78,17 @@ TEST(TumTrajectory, MalformedLineNamesFileAndLine) {
   EXPECT_NE(error_of([&] { io::read_tum(file); }).find("quaternion norm"), std::string::npos);
 }
 
+// Ground truth and estimates are associated by time: a duplicate or a step back is refused with both lines named.
+TEST(TumTrajectory, TimestampsMustIncrease) {
+  const fs::path dir = test::temp_dir("trajectory_order");
+  write_text(dir / "back.txt", "0.2 0 0 0 0 0 0 1\n0.1 0 0 0 0 0 0 1\n");
+  const std::string back = error_of([&] { io::read_tum(dir / "back.txt"); });
+  EXPECT_NE(back.find("back.txt:2: timestamp 0.1 is earlier than 0.2 on line 1"), std::string::npos) << back;
+  write_text(dir / "twice.csv", "#timestamp [ns],px,py,pz,qw,qx,qy,qz\n100,0,0,0,1,0,0,0\n100,1,0,0,1,0,0,0\n");
+  const std::string twice = error_of([&] { io::read_euroc_csv(dir / "twice.csv"); });
+  EXPECT_NE(twice.find("twice.csv:3: duplicate timestamp 100 (also on line 2)"), std::string::npos) << twice;
+}
+
 TEST(EurocCsv, ReadsBothColumnLayouts) {
   const fs::path dir = test::temp_dir("euroc_csv");
   // Rotation of 90 deg about z: q = (w, x, y, z) = (cos 45, 0, 0, sin 45).

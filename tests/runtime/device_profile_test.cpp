@@ -184,8 +184,9 @@ TEST(DeviceProfile, ContextBuildsItFromTheCapsItEnabled) {
   EXPECT_EQ(context.profile().winograd, expected.winograd);
   EXPECT_EQ(context.profile().cooperative_matrix, expected.cooperative_matrix);
   // The shapes are listed only with the extension that runs them.
-  if (context.caps().cooperative_matrix == CooperativeMatrixApi::none)
+  if (context.caps().cooperative_matrix == CooperativeMatrixApi::none) {
     EXPECT_TRUE(context.caps().cooperative_matrix_shapes.empty());
+  }
   EXPECT_TRUE(context.caps().supports(context.profile().precision));
   const Context without_16bit({.pipeline_cache = false, .use_16bit = false});
   EXPECT_EQ(without_16bit.profile().precision, Precision::fp32);
