@@ -15,7 +15,8 @@ void create_output_folder(const fs::path& folder) {
   if (folder.empty()) return;
   std::error_code error;
   fs::create_directories(folder, error);
-  if (error) throw OutputWriteError(fmt::format("output folder {}: cannot create it ({})", folder.string(), error.message()));
+  if (error)
+    throw OutputWriteError(fmt::format("output folder {}: cannot create it ({})", folder.string(), error.message()));
 }
 
 void write_file_atomically(const fs::path& file, const std::function<void(std::ostream&)>& fill,

@@ -59,12 +59,12 @@ TEST(TumTrajectory, WriterFlushesEveryLineAndWritesExactNanoseconds) {
   EXPECT_EQ(read_text(file),
             "1403636584.763555584 1.000000000 -2.000000000 3.500000000 0.000000000 0.000000000 0.000000000 "
             "1.000000000\n");
-  writer.write(0.25, pose);
+  writer.write(1403636585.25, pose);
   EXPECT_EQ(io::read_tum(file).size(), 2u);
   EXPECT_EQ(writer.lines_written(), 2u);
   {
     io::TumTrajectoryWriter appender(file, /*append=*/true);
-    appender.write(0.5, pose);
+    appender.write(1403636585.5, pose);
   }
   EXPECT_EQ(io::read_tum(file).size(), 3u);
 }
