@@ -111,19 +111,34 @@ void throw_param_error(const YAML::Node& node, const std::string& key, const cha
 
 namespace {
 
-void apply_camera_keys(const YAML::Node& node, CameraCalibration& camera) {
-  read_param(node, "width", camera.width);
-  read_param(node, "height", camera.height);
-  read_param(node, "fx", camera.fx);
-  read_param(node, "fy", camera.fy);
-  read_param(node, "cx", camera.cx);
-  read_param(node, "cy", camera.cy);
+// The config's camera section as a source of calibration values: `section` is its key path ("camera",
+// "camera.left") for the origins that validate_calibration names.
+struct CameraSection {
+  const YAML::Node& node;
+  std::string section;
+  const std::string& config_file;
+
+  void note_origin(CameraCalibration& camera, const char* key, std::initializer_list<const char*> fields) const {
+    if (node[key].IsDefined()) camera.set_origin(fields, origin_of(node[key], config_file, section + "." + key));
+  }
+};
+
+void apply_camera_keys(const CameraSection& source, CameraCalibration& camera) {
+  read_param(source.node, "width", camera.width);
+  read_param(source.node, "height", camera.height);
+  read_param(source.node, "fx", camera.fx);
+  read_param(source.node, "fy", camera.fy);
+  read_param(source.node, "cx", camera.cx);
+  read_param(source.node, "cy", camera.cy);
+  for (const char* key : {"width", "height", "fx", "fy", "cx", "cy"}) source.note_origin(camera, key, {key});
 }
 
-void apply_per_camera_keys(const YAML::Node& node, const std::string& name, CameraCalibration& camera) {
+void apply_per_camera_keys(const YAML::Node& node, const std::string& name, const std::string& config_file,
+                           CameraCalibration& camera) {
   if (!node.IsDefined() || node.IsNull()) return;
   if (!node.IsMap()) throw std::runtime_error(fmt::format("config key 'camera.{}': expected a map", name));
-  apply_camera_keys(node, camera);
+  const CameraSection source{node, "camera." + name, config_file};
+  apply_camera_keys(source, camera);
   const auto model = param<std::string>(node, "distortion_model", "");
   if (!model.empty()) {
     try {
@@ -133,6 +148,7 @@ void apply_per_camera_keys(const YAML::Node& node, const std::string& name, Came
     }
   }
   read_param(node, "distortion_coeffs", camera.distortion_coeffs);
+  source.note_origin(camera, "distortion_coeffs", {"distortion_coeffs"});
   // The camera's pose on the body as EuRoC's T_BS gives it (camera -> body), or as Kalibr's T_cam_imu does
   // (body -> camera; UMA-VI publishes that one), so that either can be pasted as published.
   const auto read_transform = [&](const char* key) -> std::optional<Eigen::Isometry3d> {
@@ -151,26 +167,30 @@ void apply_per_camera_keys(const YAML::Node& node, const std::string& name, Came
         fmt::format("config section 'camera.{}': give T_body_camera or T_camera_body, not both", name));
   if (body_camera) camera.T_body_camera = *body_camera;
   if (camera_body) camera.T_body_camera = camera_body->inverse();
+  source.note_origin(camera, body_camera ? "T_body_camera" : "T_camera_body", {"T_body_camera"});
 }
 
 }  // namespace
 
-StereoCalibration apply_camera_overrides(const YAML::Node& camera, StereoCalibration base) {
+StereoCalibration apply_camera_overrides(const YAML::Node& camera, StereoCalibration base,
+                                         const std::string& config_file) {
   if (!camera.IsDefined() || camera.IsNull()) return base;
   if (!camera.IsMap()) throw std::runtime_error("config section 'camera': expected a map");
   const auto camchain = param<std::string>(camera, "kalibr", "");
   if (!camchain.empty()) base = read_kalibr_camchain(camchain);
-  apply_camera_keys(camera, base.left);
-  apply_camera_keys(camera, base.right);
+  const CameraSection source{camera, "camera", config_file};
+  apply_camera_keys(source, base.left);
+  apply_camera_keys(source, base.right);
   if (camera["baseline"].IsDefined()) {
     const double baseline = param<double>(camera, "baseline", 0.0);
     if (!(baseline > 0)) throw std::runtime_error("config key 'camera.baseline': must be positive (metres)");
     base.rectified = true;
     base.right.T_body_camera = base.left.T_body_camera * Eigen::Translation3d(baseline, 0, 0);
+    source.note_origin(base.right, "baseline", {"T_body_camera"});
   }
   read_param(camera, "rectified", base.rectified);
-  apply_per_camera_keys(camera["left"], "left", base.left);
-  apply_per_camera_keys(camera["right"], "right", base.right);
+  apply_per_camera_keys(camera["left"], "left", config_file, base.left);
+  apply_per_camera_keys(camera["right"], "right", config_file, base.right);
   return base;
 }
 
@@ -207,10 +227,18 @@ std::optional<std::string> radial_distortion_problem(const CameraCalibration& c)
 
 void validate_calibration(const StereoCalibration& calibration, const std::string& source) {
   const auto check_camera = [&](const CameraCalibration& c, const char* side) {
+    // Names the file, key and line the value came from where a reader recorded it, else `source`.
     const auto fail = [&](const char* field, const std::string& why) {
-      throw std::runtime_error(fmt::format("{}: {} camera: field '{}' {}", source, side, field, why));
+      const auto origin = c.origins.find(field);
+      if (origin == c.origins.end())
+        throw std::runtime_error(fmt::format("{}: {} camera: field '{}' {}", source, side, field, why));
+      const ValueOrigin& o = origin->second;
+      const std::string line = o.line > 0 ? fmt::format(" (line {})", o.line) : std::string();
+      throw std::runtime_error(fmt::format("{}: {}{}: {} camera: field '{}' {}", o.file.empty() ? "config" : o.file,
+                                           o.key, line, side, field, why));
     };
-    if (c.width <= 0 || c.height <= 0) fail("width/height", "missing or not positive");
+    if (c.width <= 0) fail("width", "missing or not positive");
+    if (c.height <= 0) fail("height", "missing or not positive");
     if (!(c.fx > 0) || !std::isfinite(c.fx)) fail("fx", "missing, not positive or not finite");
     if (!(c.fy > 0) || !std::isfinite(c.fy)) fail("fy", "missing, not positive or not finite");
     if (!(c.cx > 0) || !std::isfinite(c.cx)) fail("cx", "missing, not positive or not finite");

@@ -117,11 +117,14 @@ void read_param(const YAML::Node& section, const std::string& key, T& value) {
 //                                           distortion_model (none|radtan|equidistant), distortion_coeffs [..],
 //                                           T_body_camera (16 or 12 numbers, row-major; camera -> body, EuRoC's
 //                                           T_BS) or T_camera_body (body -> camera, Kalibr's T_cam_imu)
-// Throws naming the key on a wrong type, an unknown distortion model or both transforms given.
-StereoCalibration apply_camera_overrides(const YAML::Node& camera, StereoCalibration base);
+// Throws naming the key on a wrong type, an unknown distortion model or both transforms given. Each value taken
+// records its origin in `config_file` (the camera's `origins`) for validate_calibration's messages.
+StereoCalibration apply_camera_overrides(const YAML::Node& camera, StereoCalibration base,
+                                         const std::string& config_file = {});
 
-// Throws std::runtime_error naming `source` and the first missing/invalid field (size, focal length, principal
-// point, distortion coefficient count, baseline).
+// Throws std::runtime_error naming the first missing/invalid field (size, focal length, principal point, distortion
+// coefficients, extrinsics, baseline) with the file, key and line it came from (CameraCalibration::origins), or
+// `source` where no reader recorded one.
 void validate_calibration(const StereoCalibration& calibration, const std::string& source);
 
 }  // namespace vkvo::io

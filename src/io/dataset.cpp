@@ -109,7 +109,7 @@ cv::Size StereoDataset::image_size(const fs::path& file) {
 void StereoDataset::finish(const DatasetOptions& options, const std::string& calibration_source) {
   std::string source = calibration_source;
   if (options.camera_overrides.IsDefined() && !options.camera_overrides.IsNull()) {
-    calibration_ = apply_camera_overrides(options.camera_overrides, calibration_);
+    calibration_ = apply_camera_overrides(options.camera_overrides, calibration_, options.config_file);
     source += " + config camera section";
   }
   validate_calibration(calibration_, source);

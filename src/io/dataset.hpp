@@ -50,6 +50,7 @@ struct DatasetOptions {
   // A `camera:` config section (see io::apply_camera_overrides) applied on top of the dataset's calibration;
   // required for datasets that come without a calibration file.
   YAML::Node camera_overrides;
+  std::string config_file;  // where camera_overrides was read, for error messages
   // EuRoC: left/right images whose timestamps differ by more than this are not paired.
   std::int64_t max_stereo_dt_ns = 1'000'000;
 };

@@ -115,6 +115,7 @@ CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml, SensorYaml
     const auto resolution = required_numbers(root["resolution"], sensor_yaml, "resolution", 2);
     camera.width = static_cast<int>(resolution[0]);
     camera.height = static_cast<int>(resolution[1]);
+    camera.set_origin({"width", "height"}, origin_of(root["resolution"], sensor_yaml, "resolution"));
   }
   if (should_read("intrinsics")) {
     const auto intrinsics = required_numbers(root["intrinsics"], sensor_yaml, "intrinsics", 4);
@@ -122,6 +123,7 @@ CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml, SensorYaml
     camera.fy = intrinsics[1];
     camera.cx = intrinsics[2];
     camera.cy = intrinsics[3];
+    camera.set_origin({"fx", "fy", "cx", "cy"}, origin_of(root["intrinsics"], sensor_yaml, "intrinsics"));
   }
   if (should_read("distortion_model")) {
     const std::string distortion = required_string(root["distortion_model"], sensor_yaml, "distortion_model");
@@ -131,9 +133,12 @@ CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml, SensorYaml
       throw std::runtime_error(fmt::format("{}: field 'distortion_model': {}", sensor_yaml.string(), e.what()));
     }
   }
-  if (should_read("distortion_coefficients"))
+  if (should_read("distortion_coefficients")) {
     camera.distortion_coeffs =
         required_numbers(root["distortion_coefficients"], sensor_yaml, "distortion_coefficients", 0);
+    camera.set_origin({"distortion_coeffs"},
+                      origin_of(root["distortion_coefficients"], sensor_yaml, "distortion_coefficients"));
+  }
   if (should_read("T_BS")) {
     const YAML::Node T_BS = root["T_BS"];
     if (!T_BS.IsDefined() || !T_BS.IsMap())
@@ -143,6 +148,7 @@ CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml, SensorYaml
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(fmt::format("{}: field 'T_BS': {}", sensor_yaml.string(), e.what()));
     }
+    camera.set_origin({"T_body_camera"}, origin_of(T_BS["data"], sensor_yaml, "T_BS.data"));
   }
   return camera;
 }

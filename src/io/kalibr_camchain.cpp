@@ -49,17 +49,21 @@ CameraCalibration read_camera(const YAML::Node& cam, const fs::path& file, const
   camera.fy = intrinsics[1];
   camera.cx = intrinsics[2];
   camera.cy = intrinsics[3];
+  camera.set_origin({"fx", "fy", "cx", "cy"}, origin_of(cam["intrinsics"], file, name + ".intrinsics"));
   const auto resolution = required_numbers(cam["resolution"], file, name + ".resolution", 2);
   camera.width = static_cast<int>(resolution[0]);
   camera.height = static_cast<int>(resolution[1]);
+  camera.set_origin({"width", "height"}, origin_of(cam["resolution"], file, name + ".resolution"));
   const std::string distortion = required_string(cam["distortion_model"], file, name + ".distortion_model");
   try {
     camera.distortion = parse_distortion_model(distortion);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(fmt::format("{}: field '{}.distortion_model': {}", file.string(), name, e.what()));
   }
-  if (camera.distortion != DistortionModel::none)
+  if (camera.distortion != DistortionModel::none) {
     camera.distortion_coeffs = required_numbers(cam["distortion_coeffs"], file, name + ".distortion_coeffs", 0);
+    camera.set_origin({"distortion_coeffs"}, origin_of(cam["distortion_coeffs"], file, name + ".distortion_coeffs"));
+  }
   return camera;
 }
 
@@ -84,12 +88,15 @@ StereoCalibration read_kalibr_camchain(const fs::path& file) {
   if (left_from_body && right_from_body) {
     calibration.left.T_body_camera = left_from_body->inverse();
     calibration.right.T_body_camera = right_from_body->inverse();
+    calibration.left.set_origin({"T_body_camera"}, origin_of(root["cam0"]["T_cam_imu"], file, "cam0.T_cam_imu"));
+    calibration.right.set_origin({"T_body_camera"}, origin_of(root["cam1"]["T_cam_imu"], file, "cam1.T_cam_imu"));
   } else {
     const auto right_from_left = read_transform(root["cam1"], file, "cam1", "T_cn_cnm1");
     if (!right_from_left)
       throw std::runtime_error(fmt::format(
           "{}: cam1 has neither T_cn_cnm1 nor (with cam0) T_cam_imu: where it sits is unknown", file.string()));
     calibration.right.T_body_camera = right_from_left->inverse();
+    calibration.right.set_origin({"T_body_camera"}, origin_of(root["cam1"]["T_cn_cnm1"], file, "cam1.T_cn_cnm1"));
   }
   return calibration;
 }

@@ -32,6 +32,7 @@ std::optional<ImageFolders> image_folders(const fs::path& dir) {
 
 StereoCalibration read_kitti_calib(const fs::path& calib_txt) {
   std::optional<Eigen::Matrix<double, 3, 4, Eigen::RowMajor>> P[2];
+  std::size_t P_line[2] = {0, 0};
   std::size_t unlabelled = 0;
   for_each_data_line(calib_txt, [&](const std::string& line, std::size_t line_number) {
     auto fields = split_numbers(line);
@@ -55,6 +56,7 @@ StereoCalibration read_kitti_calib(const fs::path& calib_txt) {
     Eigen::Matrix<double, 3, 4, Eigen::RowMajor> matrix;
     for (int k = 0; k < 12; ++k) matrix(k / 4, k % 4) = parse_double(fields[k], calib_txt, line_number);
     P[slot] = matrix;
+    P_line[slot] = line_number;
   });
   for (int slot = 0; slot < 2; ++slot)
     if (!P[slot]) throw std::runtime_error(fmt::format("{}: missing field 'P{}'", calib_txt.string(), slot));
@@ -68,6 +70,8 @@ StereoCalibration read_kitti_calib(const fs::path& calib_txt) {
     camera.cx = (*P[slot])(0, 2);
     camera.cy = (*P[slot])(1, 2);
     camera.distortion = DistortionModel::none;
+    camera.set_origin({"fx", "fy", "cx", "cy", "T_body_camera"},
+                      {calib_txt.string(), fmt::format("P{}", slot), static_cast<int>(P_line[slot])});
   }
   if (!(calibration.left.fx > 0))
     throw std::runtime_error(fmt::format("{}: P0 has a non-positive focal length", calib_txt.string()));

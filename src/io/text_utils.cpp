@@ -98,7 +98,8 @@ TimestampSequence::TimestampSequence(std::filesystem::path file, std::string wha
 void TimestampSequence::add(long double timestamp, std::size_t line_number) {
   // Nanosecond integers print whole, seconds as they were read.
   const auto text = [](long double t) {
-    return t == std::floor(t) && std::fabs(t) < 1e19L ? fmt::format("{:.0f}", t) : fmt::format("{}", static_cast<double>(t));
+    return t == std::floor(t) && std::fabs(t) < 1e19L ? fmt::format("{:.0f}", t)
+                                                      : fmt::format("{}", static_cast<double>(t));
   };
   if (!std::isfinite(timestamp) || timestamp < 0)
     throw std::runtime_error(

@@ -54,6 +54,11 @@ std::string required_string(const YAML::Node& node, const std::filesystem::path&
   return node.as<std::string>();
 }
 
+ValueOrigin origin_of(const YAML::Node& node, const std::filesystem::path& file, const std::string& key) {
+  const YAML::Mark mark = node.IsDefined() ? node.Mark() : YAML::Mark::null_mark();
+  return {file.string(), key, mark.is_null() ? 0 : mark.line + 1};
+}
+
 DistortionModel parse_distortion_model(const std::string& name) {
   if (name == "none" || name == "pinhole") return DistortionModel::none;
   if (name == "radtan" || name == "radial-tangential" || name == "plumb_bob") return DistortionModel::radtan;

@@ -25,6 +25,9 @@ std::vector<double> required_numbers(const YAML::Node& node, const std::filesyst
 // `node` as a string; throws std::runtime_error naming `file` and `field` when it is missing.
 std::string required_string(const YAML::Node& node, const std::filesystem::path& file, const std::string& field);
 
+// Where `node` sits in `file` (line 0 where yaml-cpp has no mark, e.g. an absent node).
+ValueOrigin origin_of(const YAML::Node& node, const std::filesystem::path& file, const std::string& key);
+
 // "none"/"pinhole", "radtan"/"radial-tangential"/"plumb_bob", "equidistant"/"equi"/"fisheye".
 // Throws std::invalid_argument listing the accepted names.
 DistortionModel parse_distortion_model(const std::string& name);

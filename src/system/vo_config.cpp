@@ -57,9 +57,10 @@ VoConfig load_vo_config(const io::Config& config) {
       camera["kalibr"] = (std::filesystem::path(config.origin()).parent_path() / path).lexically_normal().string();
   }
   vo.dataset = io::load_dataset_options(config.section("dataset"), camera);
+  vo.dataset.config_file = config.origin();
   // The camera section is applied when the dataset opens (on top of its calibration); applied to nothing now, it
   // checks its keys and values (and reads a Kalibr file named there) up front.
-  io::apply_camera_overrides(camera, {});
+  io::apply_camera_overrides(camera, {}, config.origin());
   const YAML::Node models = config.section("models");
   io::read_param(models, "matcher", vo.matcher);
   if (vo.matcher != "superglue" && vo.matcher != "nn")
@@ -82,7 +83,8 @@ VoConfig load_vo_config_or_defaults(const std::filesystem::path& file) {
 }
 
 io::StereoCalibration config_calibration(const VoConfig& config) {
-  io::StereoCalibration calibration = io::apply_camera_overrides(config.dataset.camera_overrides, {});
+  io::StereoCalibration calibration =
+      io::apply_camera_overrides(config.dataset.camera_overrides, {}, config.dataset.config_file);
   io::validate_calibration(calibration, config.origin.string() + " (camera section)");
   return calibration;
 }

@@ -10,6 +10,8 @@
 
 #include "common/test_support.hpp"
 #include "io/config.hpp"
+#include "io/dataset.hpp"
+#include "io/kalibr_camchain.hpp"
 #include "io/validation.hpp"
 
 using namespace vkvo;
@@ -86,4 +88,54 @@ TEST(CalibrationValidation, InfiniteIntrinsicsAreRejected) {
   c = pinhole();
   c.fx = std::numeric_limits<double>::infinity();
   EXPECT_NE(error_of([&] { io::validate_calibration(stereo_of(c), "cam.yaml"); }).find("fx"), std::string::npos);
+}
+
+// A value that passes the readers but fails validation is traced back to the file, key and line it came from, in
+// each of the three places a calibration is read: a EuRoC sensor.yaml, a Kalibr camchain and the config.
+TEST(CalibrationValidation, MessagesNameTheFileKeyAndLineTheValueCameFrom) {
+  const std::filesystem::path dir = test::temp_dir("calibration_origin");
+  const std::string euroc =
+      "camera_model: pinhole\n"
+      "resolution: [752, 480]\n"
+      "T_BS:\n"
+      "  data: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]\n"
+      "intrinsics: [-458.0, 457.0, 367.0, 248.0]\n"
+      "distortion_model: radial-tangential\n"
+      "distortion_coefficients: [-0.28, 0.07, 0.0002, 0.00002]\n";
+  test::write_text(dir / "sensor.yaml", euroc);
+  io::StereoCalibration stereo = stereo_of(io::read_euroc_camera_yaml(dir / "sensor.yaml"));
+  std::string message = error_of([&] { io::validate_calibration(stereo, "dataset"); });
+  EXPECT_NE(message.find("sensor.yaml: intrinsics (line 5): left camera: field 'fx'"), std::string::npos) << message;
+
+  const std::string camchain =
+      "cam0:\n"
+      "  camera_model: pinhole\n"
+      "  intrinsics: [458.0, 457.0, 367.0, 248.0]\n"
+      "  resolution: [752, 480]\n"
+      "  distortion_model: radtan\n"
+      "  distortion_coeffs: [-0.28, 0.07, 0.0002, 0.00002]\n"
+      "cam1:\n"
+      "  camera_model: pinhole\n"
+      "  intrinsics: [458.0, 457.0, 367.0, 248.0]\n"
+      "  resolution: [752, 480]\n"
+      "  distortion_model: radtan\n"
+      "  distortion_coeffs: [-1.0e6, 0.07, 0.0002, 0.00002]\n"
+      "  T_cn_cnm1:\n"
+      "  - [1, 0, 0, -0.11]\n"
+      "  - [0, 1, 0, 0]\n"
+      "  - [0, 0, 1, 0]\n"
+      "  - [0, 0, 0, 1]\n";
+  test::write_text(dir / "camchain.yaml", camchain);
+  message = error_of([&] { io::validate_calibration(io::read_kalibr_camchain(dir / "camchain.yaml"), "dataset"); });
+  EXPECT_NE(message.find("camchain.yaml: cam1.distortion_coeffs (line 12): right camera: field 'distortion_coeffs' "
+                         "the radial distortion folds over"),
+            std::string::npos)
+      << message;
+
+  // The config's camera section overrides one value of the file; the message points at the override.
+  const auto config = io::Config::from_string("camera:\n  left:\n    fx: 400\n    cy: -1\n", "run.yaml");
+  stereo =
+      io::apply_camera_overrides(config.section("camera"), io::read_kalibr_camchain(dir / "camchain.yaml"), "run.yaml");
+  message = error_of([&] { io::validate_calibration(stereo, "dataset"); });
+  EXPECT_NE(message.find("run.yaml: camera.left.cy (line 4): left camera: field 'cy'"), std::string::npos) << message;
 }
