@@ -73,6 +73,31 @@ void write_refined_keyframes(const std::filesystem::path& file, const StereoOdom
 
 // ATE and the rest of the per-frame trajectory (whole, and split by frame state) and of the refined keyframes,
 // against the ground truth found with the dataset; null when there is none or the run left too few poses.
+// What the pose estimates stood on, over the frames whose pose came from them (tracked or relocalised): how many
+// points and lines were inliers, so that a run shows where lines carried weight (issue 40's measure).
+nlohmann::json inlier_statistics(const std::vector<FrameRecord>& frames) {
+  std::vector<int> points, lines;
+  for (const FrameRecord& f : frames) {
+    if (f.state != PoseState::tracked && f.state != PoseState::relocalised) continue;
+    points.push_back(f.point_inliers);
+    lines.push_back(f.line_inliers);
+  }
+  const auto describe = [](std::vector<int> values) {
+    if (values.empty()) return nlohmann::json{{"mean", 0.0}, {"median", 0.0}, {"min", 0}};
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    const double median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+    double sum = 0;
+    for (const int v : values) sum += v;
+    return nlohmann::json{{"mean", sum / static_cast<double>(n)}, {"median", median}, {"min", values.front()}};
+  };
+  const auto with_lines = std::count_if(lines.begin(), lines.end(), [](int n) { return n > 0; });
+  return {{"frames", points.size()},
+          {"points", describe(points)},
+          {"lines", describe(lines)},
+          {"frames_with_line_inliers", with_lines}};
+}
+
 nlohmann::json evaluate_outputs(const io::StereoDataset& dataset, const RunResult& result) {
   const auto groundtruth = io::read_dataset_groundtruth(dataset);
   if (!groundtruth) return nullptr;
@@ -201,6 +226,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   if (options.observer) options.observer->finish(geometry);
   write_refined_keyframes(result.keyframes_refined_file, odometry, record);
   result.evaluation = evaluate_outputs(dataset, result);
+  result.inliers = inlier_statistics(record.frames());
 
   nlohmann::json summary = options.extra_summary;
   summary["dataset"] = io::describe_dataset(dataset);
@@ -227,6 +253,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
                                {"successes_by_recency", reloc.successes_by_source[2]}};
   summary["map"] = {{"points", result.map_points}, {"lines", result.map_lines}};
   summary["lines_enabled"] = config.tracking.use_lines;
+  summary["inliers_per_tracked_frame"] = result.inliers;
   summary["timing"] = result.timing.to_json(result.frames, result.wall_seconds);
   if (!result.evaluation.is_null()) summary["evaluation"] = result.evaluation;
   summary["outputs"] = {{"trajectory", result.trajectory.string()},

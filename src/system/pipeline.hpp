@@ -70,6 +70,8 @@ struct RunResult {
   // With ground truth beside the dataset: summary.json's "evaluation" (per-frame trajectory, split by frame state,
   // and the refined keyframes); null without.
   nlohmann::json evaluation;
+  // summary.json's "inliers_per_tracked_frame": mean, median and min point and line inliers of the pose estimates.
+  nlohmann::json inliers;
 };
 
 // `feature_frontend` serves the feature stage, `stereo_frontend` the keyframes' right images (two instances so

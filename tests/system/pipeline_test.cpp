@@ -1,5 +1,6 @@
 // The whole threaded pipeline (reader -> feature stage -> optimisation stage -> outputs) on a KITTI-layout folder
 // of tagged placeholder images, with the oracle point frontend: no GPU needed, every output checked.
+#include <algorithm>
 #include <fstream>
 
 #include <fmt/format.h>
@@ -12,6 +13,7 @@
 
 #include "common/test_support.hpp"
 #include "io/dataset.hpp"
+#include "io/frame_status.hpp"
 #include "io/trajectory.hpp"
 #include "system/oracle_frontend.hpp"
 #include "system/pipeline.hpp"
@@ -113,6 +115,23 @@ TEST(Pipeline, RunsTheThreadedVoAndWritesEveryOutput) {
   EXPECT_EQ(summary["keyframes"], result.keyframes);
   for (const char* module : {"PE", "PM", "IPE", "BA"})
     EXPECT_GT(summary["timing"]["modules"][module]["samples"].get<int>(), 0) << module;
+
+  // The inlier statistics are those of frames.csv's tracked rows (points only here: no line inliers).
+  const auto rows = io::read_frame_status(result.frames_file);
+  std::vector<int> point_inliers;
+  for (const auto& row : rows)
+    if (row.state == "tracked") point_inliers.push_back(row.point_inliers);
+  ASSERT_EQ(point_inliers.size(), result.frames_tracked);
+  std::sort(point_inliers.begin(), point_inliers.end());
+  const auto& inliers = summary["inliers_per_tracked_frame"];
+  EXPECT_EQ(inliers["frames"], point_inliers.size());
+  EXPECT_EQ(inliers["points"]["min"], point_inliers.front());
+  const std::size_t n = point_inliers.size();
+  EXPECT_DOUBLE_EQ(inliers["points"]["median"].get<double>(),
+                   n % 2 ? point_inliers[n / 2] : 0.5 * (point_inliers[n / 2 - 1] + point_inliers[n / 2]));
+  EXPECT_GT(inliers["points"]["mean"].get<double>(), 20.0);
+  EXPECT_EQ(inliers["lines"]["mean"], 0.0);
+  EXPECT_EQ(inliers["frames_with_line_inliers"], 0);
 }
 
 // Black frames in the middle: they are untracked, their trajectory lines wait until tracking resumes and are then

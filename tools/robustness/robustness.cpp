@@ -167,6 +167,8 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& dataset, const system:
         r.relocalisations = run.relocalisations;
         r.merges = run.merges;
         r.frames_per_second = run.wall_seconds > 0 ? static_cast<double>(run.frames) / run.wall_seconds : 0.0;
+        r.point_inliers_median = run.inliers["points"]["median"].get<double>();
+        r.line_inliers_median = run.inliers["lines"]["median"].get<double>();
         if (run.evaluation.is_null()) throw std::runtime_error("no ground truth found with the sequence");
         r.ate_m = rmse_of(run.evaluation, "trajectory", "ate_translation_m");
         r.ate_measured_m = rmse_of(run.evaluation, "trajectory_by_state", "measured_translation_m");
@@ -204,20 +206,23 @@ std::string format_table(const std::vector<ScenarioResult>& results) {
   };
   const ScenarioResult* clean = find("clean", true);
   const bool ablation = std::any_of(results.begin(), results.end(), [](const auto& r) { return !r.lines; });
-  std::string table = "| scenario | ATE m | x clean | ATE tracked m | ATE gap m | untracked | segments | relocalised |";
+  std::string table =
+      "| scenario | ATE m | x clean | ATE tracked m | ATE gap m | untracked | segments | relocalised | inliers points "
+      "/ lines |";
   table += ablation ? " ATE w/o lines m | lines' gain |\n" : "\n";
-  table += ablation ? "|---|---|---|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|\n";
+  table += ablation ? "|---|---|---|---|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     if (!r.lines) continue;
     if (!r.error.empty()) {
-      table +=
-          fmt::format("| {} | failed: {} |{}\n", r.scenario, r.error, ablation ? " | | | | | | | |" : " | | | | | |");
+      table += fmt::format("| {} | failed: {} |{}\n", r.scenario, r.error,
+                           ablation ? " | | | | | | | | |" : " | | | | | | |");
       continue;
     }
     const std::string ratio = clean && clean->ate_m > 0 ? fmt::format("{:.2f}", r.ate_m / clean->ate_m) : "-";
     const std::string gap = r.frames_bridged > 0 ? fmt::format("{:.4f}", r.ate_gap_m) : "-";
-    table += fmt::format("| {} | {:.4f} | {} | {:.4f} | {} | {} | {} | {} |", r.scenario, r.ate_m, ratio,
-                         r.ate_measured_m, gap, r.frames_untracked, r.segments, r.relocalisations);
+    table += fmt::format("| {} | {:.4f} | {} | {:.4f} | {} | {} | {} | {} | {:.0f} / {:.0f} |", r.scenario, r.ate_m,
+                         ratio, r.ate_measured_m, gap, r.frames_untracked, r.segments, r.relocalisations,
+                         r.point_inliers_median, r.line_inliers_median);
     if (ablation) {
       const ScenarioResult* without = find(r.scenario, false);
       if (without && without->error.empty() && without->ate_m > 0)
@@ -247,6 +252,8 @@ nlohmann::json to_json(const std::vector<ScenarioResult>& results) {
                    {"ate_gap_m", r.ate_gap_m},
                    {"ate_keyframes_refined_m", r.ate_keyframes_m},
                    {"frames_per_second", r.frames_per_second},
+                   {"point_inliers_median", r.point_inliers_median},
+                   {"line_inliers_median", r.line_inliers_median},
                    {"error", r.error}});
   return out;
 }

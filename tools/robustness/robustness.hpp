@@ -46,7 +46,8 @@ struct ScenarioResult {
   double ate_gap_m = 0;        // bridged frames, under that alignment (0 when none)
   double ate_keyframes_m = 0;  // refined keyframes
   double frames_per_second = 0;
-  std::string error;  // the run or its evaluation failed: what happened
+  double point_inliers_median = 0, line_inliers_median = 0;  // per tracked frame: what the poses stood on
+  std::string error;                                         // the run or its evaluation failed: what happened
 };
 
 struct BenchmarkOptions {

@@ -1,0 +1,69 @@
+// The robustness benchmark's report: ratios to the clean run, the lines' gain against the run without them, the
+// inliers the poses stood on, and a well-formed markdown table even where a run failed.
+#include <algorithm>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tools/robustness/robustness.hpp"
+
+using vkvo::robustness::ScenarioResult;
+
+namespace {
+
+ScenarioResult result(const std::string& scenario, bool lines, double ate_m, double line_inliers) {
+  ScenarioResult r;
+  r.scenario = scenario;
+  r.lines = lines;
+  r.frames = 100;
+  r.segments = 1;
+  r.ate_m = r.ate_measured_m = ate_m;
+  r.point_inliers_median = 180;
+  r.line_inliers_median = line_inliers;
+  return r;
+}
+
+std::vector<std::string> rows_of(const std::string& table) {
+  std::vector<std::string> rows;
+  std::istringstream in(table);
+  for (std::string row; std::getline(in, row);) rows.push_back(row);
+  return rows;
+}
+
+}  // namespace
+
+TEST(RobustnessTable, AblationGivesTheLinesGainAndTheInliers) {
+  std::vector<ScenarioResult> results = {result("clean", true, 0.010, 6), result("clean", false, 0.011, 0),
+                                         result("dim 10%", true, 0.030, 4), result("dim 10%", false, 0.040, 0)};
+  ScenarioResult failed = result("lights off", true, 0, 0);
+  failed.error = "no frame tracked";
+  results.push_back(failed);
+  results.push_back(result("lights off", false, 0.050, 0));
+  const std::string table = vkvo::robustness::format_table(results);
+  const auto rows = rows_of(table);
+  ASSERT_EQ(rows.size(), 5u) << table;  // header, rule, one row per scenario (the runs without lines are columns)
+  // dim: 3x the clean ATE; without lines 0.040 m, so the lines cut the error by (0.040 - 0.030) / 0.040 = 25 %.
+  EXPECT_NE(rows[3].find("| dim 10% | 0.0300 | 3.00 |"), std::string::npos) << rows[3];
+  EXPECT_NE(rows[3].find("| 180 / 4 | 0.0400 | +25 % |"), std::string::npos) << rows[3];
+  EXPECT_NE(rows[4].find("failed: no frame tracked"), std::string::npos) << rows[4];
+  // Every row has the header's number of cells.
+  const auto cells = [](const std::string& row) { return std::count(row.begin(), row.end(), '|'); };
+  for (const auto& row : rows) EXPECT_EQ(cells(row), cells(rows[0])) << row;
+
+  const auto json = vkvo::robustness::to_json(results);
+  ASSERT_EQ(json.size(), results.size());
+  EXPECT_EQ(json[2]["line_inliers_median"], 4.0);
+  EXPECT_EQ(json[2]["point_inliers_median"], 180.0);
+}
+
+TEST(RobustnessTable, WithoutAblationTheRowsHaveTheHeadersCells) {
+  ScenarioResult failed = result("flicker", true, 0, 0);
+  failed.error = "crashed";
+  const auto rows = rows_of(vkvo::robustness::format_table({result("clean", true, 0.010, 6), failed}));
+  ASSERT_EQ(rows.size(), 4u);
+  const auto cells = [](const std::string& row) { return std::count(row.begin(), row.end(), '|'); };
+  for (const auto& row : rows) EXPECT_EQ(cells(row), cells(rows[0])) << row;
+  EXPECT_EQ(rows[0].find("lines' gain"), std::string::npos);
+}
