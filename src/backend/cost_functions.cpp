@@ -1,6 +1,8 @@
 // The only translation unit that instantiates the templated Ceres functors (compile time).
 #include "backend/cost_functions.hpp"
 
+#include <cmath>
+
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/autodiff_manifold.h>
 #include <ceres/numeric_diff_cost_function.h>
@@ -180,6 +182,12 @@ std::unique_ptr<ceres::CostFunction> make_numeric_line_cost(const geometry::Ster
 
 std::unique_ptr<ceres::Manifold> make_line_manifold() {
   return std::make_unique<ceres::AutoDiffManifold<OrthonormalLinePlus, 6, 4>>();
+}
+
+std::unique_ptr<ceres::LossFunction> make_robust_loss(double chi2_threshold, double weight) {
+  auto huber = std::make_unique<ceres::HuberLoss>(std::sqrt(chi2_threshold));
+  if (weight == 1.0) return huber;
+  return std::make_unique<ceres::ScaledLoss>(huber.release(), weight, ceres::TAKE_OWNERSHIP);
 }
 
 std::unique_ptr<ceres::Manifold> make_pose_manifold() {

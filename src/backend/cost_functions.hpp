@@ -11,6 +11,7 @@
 #include <optional>
 
 #include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
 #include <ceres/manifold.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -44,6 +45,9 @@ std::unique_ptr<ceres::CostFunction> make_numeric_point_cost(const geometry::Ste
                                                              const PointMeasurement& measurement, double pixel_sigma);
 std::unique_ptr<ceres::CostFunction> make_numeric_line_cost(const geometry::StereoCamera& stereo,
                                                             const LineMeasurement& measurement, double pixel_sigma);
+
+// Huber loss with threshold sqrt(chi2) in whitened units, its cost scaled by `weight` (1: plain Huber).
+std::unique_ptr<ceres::LossFunction> make_robust_loss(double chi2_threshold, double weight = 1.0);
 
 // The orthonormal update of a Pluecker block: U <- U Exp(d[0:3]), W <- W Rot(d[3]); the result is rescaled to
 // |v| = 1. Minus is its inverse for nearby lines of the same orientation.

@@ -80,10 +80,10 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
   ceres::Problem problem(problem_options);
   const std::unique_ptr<ceres::Manifold> pose_manifold = make_pose_manifold();
   const std::unique_ptr<ceres::Manifold> line_manifold = make_line_manifold();
-  ceres::HuberLoss mono_point_loss(std::sqrt(params.mono_point_chi2));
-  ceres::HuberLoss stereo_point_loss(std::sqrt(params.stereo_point_chi2));
-  ceres::HuberLoss mono_line_loss(std::sqrt(params.mono_line_chi2));
-  ceres::HuberLoss stereo_line_loss(std::sqrt(params.stereo_line_chi2));
+  const auto mono_point_loss = make_robust_loss(params.mono_point_chi2);
+  const auto stereo_point_loss = make_robust_loss(params.stereo_point_chi2);
+  const auto mono_line_loss = make_robust_loss(params.mono_line_chi2, params.line_weight);
+  const auto stereo_line_loss = make_robust_loss(params.stereo_line_chi2, params.line_weight);
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
 
   for (auto& [id, pose] : vars.poses) {
@@ -107,8 +107,9 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
       }
       const PointMeasurement m{kf.keypoints[index], kf.right_x[index]};
       obs.chi2_threshold = m.stereo() ? params.stereo_point_chi2 : params.mono_point_chi2;
-      obs.block = problem.AddResidualBlock(make_point_cost(stereo, m, params.pixel_sigma).release(),
-                                           m.stereo() ? &stereo_point_loss : &mono_point_loss, pose.data(), X.data());
+      obs.block =
+          problem.AddResidualBlock(make_point_cost(stereo, m, params.pixel_sigma).release(),
+                                   m.stereo() ? stereo_point_loss.get() : mono_point_loss.get(), pose.data(), X.data());
       observations.push_back(obs);
       ++result.point_observations;
     }
@@ -121,8 +122,9 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
       const LineMeasurement m{kf.lines[index].left, kf.lines[index].right};
       PoseBlock& pose = vars.poses.at(kf_id);
       Observation obs{nullptr, id, kf_id, true, m.stereo() ? params.stereo_line_chi2 : params.mono_line_chi2, false};
-      obs.block = problem.AddResidualBlock(make_line_cost(stereo, m, params.pixel_sigma).release(),
-                                           m.stereo() ? &stereo_line_loss : &mono_line_loss, pose.data(), L.data());
+      obs.block =
+          problem.AddResidualBlock(make_line_cost(stereo, m, params.pixel_sigma).release(),
+                                   m.stereo() ? stereo_line_loss.get() : mono_line_loss.get(), pose.data(), L.data());
       observations.push_back(obs);
       ++result.line_observations;
     }

@@ -11,6 +11,8 @@ OptimizationParams load_optimization_params(const YAML::Node& s) {
   io::read_param(s, "stereo_point_chi2", p.stereo_point_chi2);
   io::read_param(s, "mono_line_chi2", p.mono_line_chi2);
   io::read_param(s, "stereo_line_chi2", p.stereo_line_chi2);
+  io::read_param(s, "line_weight", p.line_weight);
+  io::read_param(s, "pose_with_lines", p.pose_with_lines);
   io::read_param(s, "pose_rounds", p.pose_rounds);
   io::read_param(s, "pose_iterations", p.pose_iterations);
   io::read_param(s, "min_pose_inliers", p.min_pose_inliers);

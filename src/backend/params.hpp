@@ -7,7 +7,8 @@ namespace vkvo::backend {
 
 // Chi-square style thresholds are on the whitened squared residual |r|^2 / sigma^2. They set both the Huber
 // threshold (delta = sqrt(chi2) in whitened units) and the outlier test after each solve.
-// YAML keys: pixel_sigma, mono_point_chi2, stereo_point_chi2, mono_line_chi2, stereo_line_chi2,
+// YAML keys: pixel_sigma, mono_point_chi2, stereo_point_chi2, mono_line_chi2, stereo_line_chi2, line_weight,
+// pose_with_lines,
 // pose_rounds, pose_iterations, min_pose_inliers, pnp_min_points, pnp_iterations, pnp_confidence,
 // pnp_prior_min_inlier_ratio, window_size, min_covisible, ba_iterations, ba_rounds, num_threads.
 struct OptimizationParams {
@@ -16,6 +17,12 @@ struct OptimizationParams {
   double stereo_point_chi2 = 75.0;
   double mono_line_chi2 = 50.0;
   double stereo_line_chi2 = 75.0;
+  // Weight of a line residual's robust cost against a point's (the paper: 1; AirVO's code: 0.1), in pose
+  // estimation and local BA alike. Outlier tests stay on the unweighted chi2.
+  double line_weight = 1.0;
+  // true: lines take part in the initial pose estimation (the paper); false: the pose comes from points alone
+  // and the lines are only classified against it before entering the BA (AirVO's code).
+  bool pose_with_lines = true;
 
   // Initial pose estimation (motion only): rounds of solve + outlier reclassification.
   int pose_rounds = 4;

@@ -96,8 +96,8 @@ PoseEstimate estimate_pose(const geometry::StereoCamera& stereo, const Eigen::Is
     line_res.push_back({make_line_cost(stereo, l.measurement, params.pixel_sigma), nullptr, line_blocks.back().data(),
                         l.measurement.stereo() ? params.stereo_line_chi2 : params.mono_line_chi2});
   }
-  for (auto* group : {&point_res, &line_res})
-    for (auto& r : *group) r.loss = std::make_unique<ceres::HuberLoss>(std::sqrt(r.chi2_threshold));
+  for (auto& r : point_res) r.loss = make_robust_loss(r.chi2_threshold);
+  for (auto& r : line_res) r.loss = make_robust_loss(r.chi2_threshold, params.line_weight);
 
   PoseEstimate out;
   PoseBlock pose = PoseBlock::from_T_world_camera(T_world_camera_prior);
@@ -142,7 +142,7 @@ PoseEstimate estimate_pose(const geometry::StereoCamera& stereo, const Eigen::Is
       }
     };
     add(point_res, out.point_inliers);
-    add(line_res, out.line_inliers);
+    if (params.pose_with_lines) add(line_res, out.line_inliers);
     if (used < 3) break;  // nothing to estimate from
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);

@@ -41,6 +41,7 @@ const std::vector<Rule>& rules() {
       positive("optimization.stereo_point_chi2"),
       positive("optimization.mono_line_chi2"),
       positive("optimization.stereo_line_chi2"),
+      positive("optimization.line_weight"),
       at_least_one("optimization.pose_rounds"),
       at_least_one("optimization.pose_iterations"),
       non_negative("optimization.min_pose_inliers"),

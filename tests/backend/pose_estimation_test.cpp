@@ -108,6 +108,46 @@ TEST(PoseEstimation, LinesOnlyAndPointsOnlyConverge) {
   EXPECT_TRUE(pose_near(points_only.T_world_camera, s.T_world_camera[2], 0.01, 2e-3));
 }
 
+// AirVO's choice (optimization.pose_with_lines: false): the lines do not move the pose, which is then exactly the
+// points-only estimate, yet they are still classified against it (the inlier flags feed the BA and the counts).
+TEST(PoseEstimation, WithoutLinesInThePoseTheLinesAreOnlyClassified) {
+  const test::Scene s = test::make_scene({.num_keyframes = 3, .num_lines = 60, .pixel_noise = 0.3, .seed = 41});
+  std::mt19937 rng(42);
+  Matches m = make_matches(s, 2, 0.0, rng);
+  // Lines measured 3 px off would pull a joint estimate away from the points-only pose.
+  for (auto& l : m.lines) l.measurement.left += geometry::Segment2d(3, 3, 3, 3);
+  const Eigen::Isometry3d prior = test::perturb(s.T_world_camera[2], rng, 0.05, 0.03);
+  OptimizationParams points_first;
+  points_first.pose_with_lines = false;
+  const PoseEstimate airvo = estimate_pose(s.stereo, prior, m.points, m.lines, points_first);
+  const PoseEstimate points_only = estimate_pose(s.stereo, prior, m.points, {}, points_first);
+  const PoseEstimate joint = estimate_pose(s.stereo, prior, m.points, m.lines, OptimizationParams{});
+  EXPECT_TRUE(pose_near(airvo.T_world_camera, points_only.T_world_camera, 1e-9, 1e-9));
+  EXPECT_GT(test::translation_error(joint.T_world_camera, points_only.T_world_camera), 1e-6)
+      << "the shifted lines should move the joint estimate";
+  EXPECT_EQ(airvo.line_inliers.size(), m.lines.size());
+  EXPECT_GT(airvo.num_line_inliers, static_cast<int>(m.lines.size()) / 2);  // 3 px is well inside sqrt(50) * 0.8
+}
+
+// optimization.line_weight scales the lines' robust cost (AirVO's code: 0.1): a smaller weight moves the joint
+// estimate of the test above towards the points-only pose.
+TEST(PoseEstimation, LineWeightScalesTheLinesPull) {
+  const test::Scene s = test::make_scene({.num_keyframes = 3, .num_lines = 60, .pixel_noise = 0.3, .seed = 43});
+  std::mt19937 rng(44);
+  Matches m = make_matches(s, 2, 0.0, rng);
+  for (auto& l : m.lines) l.measurement.left += geometry::Segment2d(3, 3, 3, 3);
+  const Eigen::Isometry3d prior = test::perturb(s.T_world_camera[2], rng, 0.05, 0.03);
+  const PoseEstimate points_only = estimate_pose(s.stereo, prior, m.points, {}, OptimizationParams{});
+  OptimizationParams weighted;
+  weighted.line_weight = 0.1;
+  const double full_pull =
+      test::translation_error(estimate_pose(s.stereo, prior, m.points, m.lines, OptimizationParams{}).T_world_camera,
+                              points_only.T_world_camera);
+  const double weak_pull = test::translation_error(
+      estimate_pose(s.stereo, prior, m.points, m.lines, weighted).T_world_camera, points_only.T_world_camera);
+  EXPECT_LT(weak_pull, 0.5 * full_pull) << "weight 0.1: " << weak_pull << " m, weight 1: " << full_pull << " m";
+}
+
 TEST(PoseEstimation, NoiselessIsExactAndTooFewMatchesFail) {
   const test::Scene s = test::make_scene({.num_keyframes = 2, .seed = 37});
   std::mt19937 rng(38);

@@ -46,6 +46,20 @@ TEST(LineMatching, ScoreUsesTheSmallerPointCount) {
             (std::vector<int>{-1}));
 }
 
+TEST(LineMatching, AirvoScoreSquaresTheSharedCountAndIncludesTheThreshold) {
+  // 3 shared matches, N_m = 10, N_n = 8: the paper's S = 3/8 = 0.375 fails 0.5; AirVO's 3^2/8 = 1.125 passes 0.8.
+  const PointLineAssociation a = make_association(10, {{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}});
+  const PointLineAssociation b = make_association(8, {{0, 1, 2, 3, 4, 5, 6, 7}});
+  const std::vector<int> point_matches = {0, 1, 2, -1, -1, -1, -1, -1, -1, -1};
+  EXPECT_EQ(match_lines(a, b, point_matches, kParams), (std::vector<int>{-1}));
+  const LineMatchParams airvo{0.8f, 1, LineMatchScore::kAirvo};
+  EXPECT_EQ(match_lines(a, b, point_matches, airvo), (std::vector<int>{0}));
+  // 2 shared matches with N_n = 5: 2^2/5 = 0.8 sits on the threshold, which AirVO's ">=" accepts; N_n = 6 fails.
+  const std::vector<int> two_matches = {0, 1, -1, -1, -1, -1, -1, -1, -1, -1};
+  EXPECT_EQ(match_lines(a, make_association(8, {{0, 1, 2, 3, 4}}), two_matches, airvo), (std::vector<int>{0}));
+  EXPECT_EQ(match_lines(a, make_association(8, {{0, 1, 2, 3, 4, 5}}), two_matches, airvo), (std::vector<int>{-1}));
+}
+
 TEST(LineMatching, TooFewSharedPointsAreRejected) {
   // One shared point gives S = 1 but N_pm = 1 is not > delta_N = 1.
   const PointLineAssociation a = make_association(2, {{0}, {1}});

@@ -85,6 +85,27 @@ TEST(VoConfig, EverySectionIsCheckedAtLoad) {
   EXPECT_EQ(io::apply_camera_overrides(config.dataset.camera_overrides, {}).left.fx, 400.0);
 }
 
+// Issue 40: AirVO's code's line choices are config options, parsed and checked like every other key.
+TEST(VoConfig, AirvoLineChoicesAreOptions) {
+  const VoConfig defaults = load_vo_config(io::Config::from_string("{}\n"));
+  EXPECT_EQ(defaults.lines.matching.score, features::LineMatchScore::kPaper);
+  EXPECT_EQ(defaults.optimization.line_weight, 1.0);
+  EXPECT_TRUE(defaults.optimization.pose_with_lines);
+  const VoConfig airvo =
+      load_vo_config(io::Config::from_string("lines: {matching: {score: airvo, score_threshold: 0.8}}\n"
+                                             "optimization: {line_weight: 0.1, pose_with_lines: false}\n"));
+  EXPECT_EQ(airvo.lines.matching.score, features::LineMatchScore::kAirvo);
+  EXPECT_FLOAT_EQ(airvo.lines.matching.score_threshold, 0.8f);
+  EXPECT_EQ(airvo.optimization.line_weight, 0.1);
+  EXPECT_FALSE(airvo.optimization.pose_with_lines);
+  const std::string score =
+      test::error_of([] { load_vo_config(io::Config::from_string("lines: {matching: {score: squared}}\n")); });
+  EXPECT_NE(score.find("expected 'paper' or 'airvo', got 'squared'"), std::string::npos) << score;
+  const std::string weight =
+      test::error_of([] { load_vo_config(io::Config::from_string("optimization: {line_weight: 0}\n")); });
+  EXPECT_NE(weight.find("optimization.line_weight"), std::string::npos) << weight;
+}
+
 // A live camera has no dataset calibration files: the camera section alone gives the calibration, or an error that
 // names the config and the missing field.
 TEST(VoConfig, CameraSectionAloneGivesTheCalibration) {

@@ -42,10 +42,14 @@ std::vector<LineMatchCandidate> line_match_candidates(const PointLineAssociation
 std::vector<int> match_lines(const PointLineAssociation& a, const PointLineAssociation& b,
                              const std::vector<int>& point_matches_a_to_b, const LineMatchParams& params) {
   std::vector<LineMatchCandidate> candidates = line_match_candidates(a, b, point_matches_a_to_b);
-  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
-                                  [&](const LineMatchCandidate& c) {
-                                    return !(c.score > params.score_threshold && c.shared > params.shared_threshold);
-                                  }),
+  if (params.score == LineMatchScore::kAirvo)
+    for (LineMatchCandidate& c : candidates) c.score *= static_cast<float>(c.shared);  // N_pm^2 / min(N_m, N_n)
+  const auto passes = [&](const LineMatchCandidate& c) {
+    if (c.shared <= params.shared_threshold) return false;
+    return params.score == LineMatchScore::kAirvo ? c.score >= params.score_threshold
+                                                  : c.score > params.score_threshold;
+  };
+  candidates.erase(std::remove_if(candidates.begin(), candidates.end(), [&](const auto& c) { return !passes(c); }),
                    candidates.end());
   std::sort(candidates.begin(), candidates.end(), [](const LineMatchCandidate& x, const LineMatchCandidate& y) {
     if (x.score != y.score) return x.score > y.score;

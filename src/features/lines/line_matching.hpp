@@ -20,10 +20,11 @@ struct LineMatchCandidate {
 std::vector<LineMatchCandidate> line_match_candidates(const PointLineAssociation& a, const PointLineAssociation& b,
                                                       const std::vector<int>& point_matches_a_to_b);
 
-// Per line of A: the index of its line in B, or -1. Accepted pairs satisfy S > score_threshold and
-// N_pm > shared_threshold; one-to-one, assigned greedily by descending score (ties: more shared points, then
-// lower indices). `point_matches_a_to_b[i]` is the index in B of point i of A, -1 when unmatched; its size must
-// equal a.point_count(). Throws std::invalid_argument on inconsistent sizes or out-of-range indices.
+// Per line of A: the index of its line in B, or -1. Accepted pairs pass params.score's test (S > score_threshold,
+// or N_pm * S >= score_threshold) and N_pm > shared_threshold; one-to-one, assigned greedily by descending score (ties:
+// more shared points, then lower indices). `point_matches_a_to_b[i]` is the index in B of point i of A, -1 when
+// unmatched; its size must equal a.point_count(). Throws std::invalid_argument on inconsistent sizes or out-of-range
+// indices.
 std::vector<int> match_lines(const PointLineAssociation& a, const PointLineAssociation& b,
                              const std::vector<int>& point_matches_a_to_b, const LineMatchParams& params);
 

@@ -90,6 +90,15 @@ AssociationParams load_association_params(const YAML::Node& section) {
 LineMatchParams load_line_match_params(const YAML::Node& section) {
   LineMatchParams params;
   require_map(section, "matching");
+  std::string score = params.score == LineMatchScore::kAirvo ? "airvo" : "paper";
+  io::read_param(section, "score", score);
+  if (score == "paper") {
+    params.score = LineMatchScore::kPaper;
+  } else if (score == "airvo") {
+    params.score = LineMatchScore::kAirvo;
+  } else {
+    throw std::runtime_error("config key 'matching.score': expected 'paper' or 'airvo', got '" + score + "'");
+  }
   io::read_param(section, "score_threshold", params.score_threshold);
   io::read_param(section, "shared_threshold", params.shared_threshold);
   return params;

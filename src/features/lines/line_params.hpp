@@ -59,10 +59,15 @@ struct AssociationParams {
   float grid_cell_size = 16.0f;  // bucket size of the spatial grid over the points [px]
 };
 
-// Line matching through point matches, paper eq. 2: accept when S > score_threshold and N_pm > shared_threshold.
+// Which score a line pair must reach: the paper's S = N_pm / min(N_m, N_n) > delta_S (eq. 2), or AirVO's code's
+// N_pm^2 / min(N_m, N_n) >= delta_S, which favours lines sharing many points over short, sparsely supported ones.
+enum class LineMatchScore { kPaper, kAirvo };
+
+// Line matching through point matches: accept when the score passes score_threshold and N_pm > shared_threshold.
 struct LineMatchParams {
-  float score_threshold = 0.5f;  // delta_S on S_mn = N_pm / min(N_m, N_n)
+  float score_threshold = 0.5f;  // delta_S
   int shared_threshold = 1;      // delta_N: at least shared_threshold + 1 shared point matches
+  LineMatchScore score = LineMatchScore::kPaper;
 };
 
 struct LinePipelineParams {
