@@ -1,12 +1,14 @@
 // The robustness benchmark's report: ratios to the clean run, the lines' gain against the run without them, the
 // inliers the poses stood on, and a well-formed markdown table even where a run failed.
 #include <algorithm>
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "common/test_support.hpp"
 #include "tools/robustness/robustness.hpp"
 
 using vkvo::robustness::ScenarioResult;
@@ -66,4 +68,20 @@ TEST(RobustnessTable, WithoutAblationTheRowsHaveTheHeadersCells) {
   const auto cells = [](const std::string& row) { return std::count(row.begin(), row.end(), '|'); };
   for (const auto& row : rows) EXPECT_EQ(cells(row), cells(rows[0])) << row;
   EXPECT_EQ(rows[0].find("lines' gain"), std::string::npos);
+}
+
+// The readers accept a wrapper folder around an EuRoC sequence (as the shared clips are laid out); the benchmark's
+// perturbed copies are made of the sequence itself, so it resolves the wrapper first.
+TEST(RobustnessSequenceFolder, WrapperFoldersResolveToTheSequence) {
+  namespace fs = std::filesystem;
+  const fs::path wrapper = vkvo::test::temp_dir("robustness_sequence_folder");
+  const fs::path sequence = wrapper / "MH_01";
+  for (const char* cam : {"cam0", "cam1"}) fs::create_directories(sequence / "mav0" / cam / "data");
+  fs::create_directories(wrapper / "groundtruth");
+  EXPECT_EQ(vkvo::robustness::sequence_folder(wrapper), sequence);
+  EXPECT_EQ(vkvo::robustness::sequence_folder(sequence), sequence);
+  EXPECT_EQ(vkvo::robustness::sequence_folder(sequence / "mav0"), sequence);
+  const fs::path kitti = wrapper / "kitti_wrapper";
+  for (const char* side : {"image_0", "image_1"}) fs::create_directories(kitti / "seq" / side);
+  EXPECT_EQ(vkvo::robustness::sequence_folder(kitti), kitti / "seq");
 }

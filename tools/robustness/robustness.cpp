@@ -123,11 +123,19 @@ std::vector<Scenario> select_scenarios(const std::vector<Scenario>& all, const s
   return out;
 }
 
-std::vector<ScenarioResult> run_benchmark(const fs::path& dataset, const system::VoConfig& config,
+fs::path sequence_folder(const fs::path& dataset) {
+  if (const auto root = io::EurocDataset::find_root(dataset))
+    return root->filename() == "mav0" ? root->parent_path() : *root;
+  if (const auto root = io::KittiDataset::find_root(dataset)) return *root;
+  return dataset;
+}
+
+std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const system::VoConfig& config,
                                           const std::vector<Scenario>& scenarios,
                                           system::PointFrontend& feature_frontend,
                                           system::PointFrontend& stereo_frontend, const BenchmarkOptions& options) {
   fs::create_directories(options.out_dir);
+  const fs::path dataset = sequence_folder(given_dataset);
   const fs::path sequences = options.out_dir / "sequences";
   std::vector<ScenarioResult> results;
   std::vector<Plotted> plots;

@@ -56,6 +56,10 @@ struct BenchmarkOptions {
   bool keep_sequences = false;  // keep the perturbed copies (they are large)
 };
 
+// The sequence folder a dataset path names (the one holding mav0, or KITTI's image folders): the readers accept a
+// wrapper folder around it, the perturbed copies are made of the sequence itself.
+std::filesystem::path sequence_folder(const std::filesystem::path& dataset);
+
 // Runs every scenario (the first should be the clean one: ratios are to it) and writes out_dir/<scenario>[-nolines]/
 // (the run's outputs), robustness.md (the table), robustness.json and robustness.png (top views of each run against
 // the ground truth).
