@@ -108,15 +108,28 @@ TEST(PoseEstimation, LinesOnlyAndPointsOnlyConverge) {
   EXPECT_TRUE(pose_near(points_only.T_world_camera, s.T_world_camera[2], 0.01, 2e-3));
 }
 
+// Keyframe 2 of a scene with 0.3 px noise and every line measured 3 px off, which pulls a joint estimate
+// away from the points-only pose; and a perturbed prior.
+struct ShiftedLinesCase {
+  test::Scene scene;
+  Matches matches;
+  Eigen::Isometry3d prior;
+};
+ShiftedLinesCase make_shifted_lines_case(unsigned seed) {
+  ShiftedLinesCase c{test::make_scene({.num_keyframes = 3, .num_lines = 60, .pixel_noise = 0.3, .seed = seed}),
+                     {},
+                     Eigen::Isometry3d::Identity()};
+  std::mt19937 rng(seed + 1);
+  c.matches = make_matches(c.scene, 2, 0.0, rng);
+  for (auto& l : c.matches.lines) l.measurement.left += geometry::Segment2d(3, 3, 3, 3);
+  c.prior = test::perturb(c.scene.T_world_camera[2], rng, 0.05, 0.03);
+  return c;
+}
+
 // AirVO's choice (optimization.pose_with_lines: false): the lines do not move the pose, which is then exactly the
 // points-only estimate, yet they are still classified against it (the inlier flags feed the BA and the counts).
 TEST(PoseEstimation, WithoutLinesInThePoseTheLinesAreOnlyClassified) {
-  const test::Scene s = test::make_scene({.num_keyframes = 3, .num_lines = 60, .pixel_noise = 0.3, .seed = 41});
-  std::mt19937 rng(42);
-  Matches m = make_matches(s, 2, 0.0, rng);
-  // Lines measured 3 px off would pull a joint estimate away from the points-only pose.
-  for (auto& l : m.lines) l.measurement.left += geometry::Segment2d(3, 3, 3, 3);
-  const Eigen::Isometry3d prior = test::perturb(s.T_world_camera[2], rng, 0.05, 0.03);
+  const auto [s, m, prior] = make_shifted_lines_case(41);
   OptimizationParams points_first;
   points_first.pose_with_lines = false;
   const PoseEstimate airvo = estimate_pose(s.stereo, prior, m.points, m.lines, points_first);
@@ -132,11 +145,7 @@ TEST(PoseEstimation, WithoutLinesInThePoseTheLinesAreOnlyClassified) {
 // optimization.line_weight scales the lines' robust cost (AirVO's code: 0.1): a smaller weight moves the joint
 // estimate of the test above towards the points-only pose.
 TEST(PoseEstimation, LineWeightScalesTheLinesPull) {
-  const test::Scene s = test::make_scene({.num_keyframes = 3, .num_lines = 60, .pixel_noise = 0.3, .seed = 43});
-  std::mt19937 rng(44);
-  Matches m = make_matches(s, 2, 0.0, rng);
-  for (auto& l : m.lines) l.measurement.left += geometry::Segment2d(3, 3, 3, 3);
-  const Eigen::Isometry3d prior = test::perturb(s.T_world_camera[2], rng, 0.05, 0.03);
+  const auto [s, m, prior] = make_shifted_lines_case(43);
   const PoseEstimate points_only = estimate_pose(s.stereo, prior, m.points, {}, OptimizationParams{});
   OptimizationParams weighted;
   weighted.line_weight = 0.1;

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "io/config.hpp"
 
@@ -10,6 +11,22 @@ namespace {
 
 void require_map(const YAML::Node& node, const std::string& name) {
   if (node && !node.IsMap() && !node.IsNull()) throw std::runtime_error("config key '" + name + "': expected a map");
+}
+
+// Reads section[key] as one of two names, mapped to `first` or `second`; absent keeps `value`.
+template <typename Enum>
+void read_choice(const YAML::Node& section, const std::string& context, const char* key,
+                 std::pair<const char*, Enum> first, std::pair<const char*, Enum> second, Enum& value) {
+  std::string name = value == second.second ? second.first : first.first;
+  io::read_param(section, key, name);
+  if (name == first.first) {
+    value = first.second;
+  } else if (name == second.first) {
+    value = second.second;
+  } else {
+    throw std::runtime_error("config key '" + context + "." + key + "': expected '" + first.first + "' or '" +
+                             second.first + "', got '" + name + "'");
+  }
 }
 
 MergeStage load_merge_stage(const YAML::Node& node, const std::string& context) {
@@ -30,15 +47,8 @@ LineDetectorParams load_line_detector_params(const YAML::Node& section) {
   if (!section || !section.IsMap()) return params;
   const std::string ctx = "detector.";
 
-  std::string method = params.method == LineDetectorMethod::kLsd ? "lsd" : "fld";
-  io::read_param(section, "method", method);
-  if (method == "fld") {
-    params.method = LineDetectorMethod::kFastLineDetector;
-  } else if (method == "lsd") {
-    params.method = LineDetectorMethod::kLsd;
-  } else {
-    throw std::runtime_error("config key 'detector.method': expected 'fld' or 'lsd', got '" + method + "'");
-  }
+  read_choice(section, "detector", "method", {"fld", LineDetectorMethod::kFastLineDetector},
+              {"lsd", LineDetectorMethod::kLsd}, params.method);
   io::read_param(section, "scale", params.scale);
   if (!(params.scale > 0.0f && params.scale <= 1.0f))
     throw std::runtime_error("config key 'detector.scale': must lie in (0, 1]");
@@ -90,15 +100,8 @@ AssociationParams load_association_params(const YAML::Node& section) {
 LineMatchParams load_line_match_params(const YAML::Node& section) {
   LineMatchParams params;
   require_map(section, "matching");
-  std::string score = params.score == LineMatchScore::kAirvo ? "airvo" : "paper";
-  io::read_param(section, "score", score);
-  if (score == "paper") {
-    params.score = LineMatchScore::kPaper;
-  } else if (score == "airvo") {
-    params.score = LineMatchScore::kAirvo;
-  } else {
-    throw std::runtime_error("config key 'matching.score': expected 'paper' or 'airvo', got '" + score + "'");
-  }
+  read_choice(section, "matching", "score", {"paper", LineMatchScore::kPaper}, {"airvo", LineMatchScore::kAirvo},
+              params.score);
   io::read_param(section, "score_threshold", params.score_threshold);
   io::read_param(section, "shared_threshold", params.shared_threshold);
   return params;
