@@ -5,6 +5,7 @@
 #include <cctype>
 #include <fstream>
 #include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -112,9 +113,7 @@ CameraCalibration read_euroc_camera_yaml(const fs::path& sensor_yaml, SensorYaml
     throw std::runtime_error(fmt::format("{}: camera_model '{}' is not supported (pinhole only)", sensor_yaml.string(),
                                          model.as<std::string>()));
   if (should_read("resolution")) {
-    const auto resolution = required_numbers(root["resolution"], sensor_yaml, "resolution", 2);
-    camera.width = static_cast<int>(resolution[0]);
-    camera.height = static_cast<int>(resolution[1]);
+    std::tie(camera.width, camera.height) = required_resolution(root["resolution"], sensor_yaml, "resolution");
     camera.set_origin({"width", "height"}, origin_of(root["resolution"], sensor_yaml, "resolution"));
   }
   if (should_read("intrinsics")) {

@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
@@ -50,9 +51,7 @@ CameraCalibration read_camera(const YAML::Node& cam, const fs::path& file, const
   camera.cx = intrinsics[2];
   camera.cy = intrinsics[3];
   camera.set_origin({"fx", "fy", "cx", "cy"}, origin_of(cam["intrinsics"], file, name + ".intrinsics"));
-  const auto resolution = required_numbers(cam["resolution"], file, name + ".resolution", 2);
-  camera.width = static_cast<int>(resolution[0]);
-  camera.height = static_cast<int>(resolution[1]);
+  std::tie(camera.width, camera.height) = required_resolution(cam["resolution"], file, name + ".resolution");
   camera.set_origin({"width", "height"}, origin_of(cam["resolution"], file, name + ".resolution"));
   const std::string distortion = required_string(cam["distortion_model"], file, name + ".distortion_model");
   try {

@@ -1,5 +1,6 @@
 #include "io/yaml_utils.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -46,6 +47,17 @@ std::vector<double> required_numbers(const YAML::Node& node, const std::filesyst
     throw std::runtime_error(
         fmt::format("{}: field '{}' has {} numbers, expected {}", file.string(), field, values.size(), count));
   return values;
+}
+
+std::pair<int, int> required_resolution(const YAML::Node& node, const std::filesystem::path& file,
+                                        const std::string& field) {
+  constexpr double kMaxSide = 65536;
+  const std::vector<double> values = required_numbers(node, file, field, 2);
+  for (const double v : values)
+    if (!(v >= 1 && v <= kMaxSide && v == std::floor(v)))
+      throw std::runtime_error(fmt::format("{}: field '{}' (line {}): {} is not a whole number of pixels in [1, {}]",
+                                           file.string(), field, origin_of(node, file, field).line, v, kMaxSide));
+  return {static_cast<int>(values[0]), static_cast<int>(values[1])};
 }
 
 std::string required_string(const YAML::Node& node, const std::filesystem::path& file, const std::string& field) {

@@ -2,6 +2,7 @@
 // Small YAML helpers shared by the config loader and the dataset readers.
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
@@ -22,6 +23,10 @@ YAML::Node parse_yaml(const std::string& text, const std::string& origin);
 // is missing, not a list of numbers, or of another length.
 std::vector<double> required_numbers(const YAML::Node& node, const std::filesystem::path& file,
                                      const std::string& field, std::size_t count);
+// `node` as an image resolution [width, height]: two whole numbers in [1, 65536]. Throws std::runtime_error
+// naming `file`, `field` and its line otherwise (an out-of-range number must never reach an int conversion).
+std::pair<int, int> required_resolution(const YAML::Node& node, const std::filesystem::path& file,
+                                        const std::string& field);
 // `node` as a string; throws std::runtime_error naming `file` and `field` when it is missing.
 std::string required_string(const YAML::Node& node, const std::filesystem::path& file, const std::string& field);
 

@@ -92,6 +92,29 @@ TEST(CalibrationValidation, InfiniteIntrinsicsAreRejected) {
 
 // A value that passes the readers but fails validation is traced back to the file, key and line it came from, in
 // each of the three places a calibration is read: a EuRoC sensor.yaml, a Kalibr camchain and the config.
+// A resolution beyond int's range was converted to int unchecked (UB; found by the kalibr_camchain fuzzer):
+// both readers of a `resolution` list refuse it with file, field and line.
+TEST(CalibrationValidation, ResolutionMustBeWholePixelsInRange) {
+  const std::filesystem::path dir = test::temp_dir("calibration_resolution");
+  test::write_text(dir / "sensor.yaml",
+                   "camera_model: pinhole\nresolution: [2.2e84, 480]\nintrinsics: [458.0, 457.0, 367.0, 248.0]\n"
+                   "distortion_model: radial-tangential\ndistortion_coefficients: [0, 0, 0, 0]\n");
+  std::string message = error_of([&] { io::read_euroc_camera_yaml(dir / "sensor.yaml"); });
+  EXPECT_NE(message.find("sensor.yaml: field 'resolution' (line 2): 2.2e+84 is not a whole number of pixels"),
+            std::string::npos)
+      << message;
+  test::write_text(dir / "camchain.yaml",
+                   "cam0:\n  camera_model: pinhole\n  intrinsics: [458.0, 457.0, 367.0, 248.0]\n"
+                   "  resolution: [752.5, 480]\n  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n"
+                   "cam1:\n  camera_model: pinhole\n  intrinsics: [458.0, 457.0, 367.0, 248.0]\n"
+                   "  resolution: [752, 480]\n  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n"
+                   "  T_cn_cnm1:\n  - [1, 0, 0, -0.11]\n  - [0, 1, 0, 0]\n  - [0, 0, 1, 0]\n  - [0, 0, 0, 1]\n");
+  message = error_of([&] { io::read_kalibr_camchain(dir / "camchain.yaml"); });
+  EXPECT_NE(message.find("camchain.yaml: field 'cam0.resolution' (line 4): 752.5 is not a whole number"),
+            std::string::npos)
+      << message;
+}
+
 TEST(CalibrationValidation, MessagesNameTheFileKeyAndLineTheValueCameFrom) {
   const std::filesystem::path dir = test::temp_dir("calibration_origin");
   const std::string euroc =
