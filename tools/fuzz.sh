@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (fuzz/, clang-14 with ASan + UBSan) in their own build folder and runs each one.
 #   tools/fuzz.sh                 every target for 300 s (the long form; the corpus grows in build-fuzz/corpus)
-#   tools/fuzz.sh --ci            every target for VKVO_FUZZ_CI_SECONDS (default 10 s), two at a time
+#   tools/fuzz.sh --ci            every target for VKVO_FUZZ_CI_SECONDS (default 5 s), two at a time
 #   tools/fuzz.sh --time 60 npy   one target for 60 s
 # Before fuzzing, every target replays the seeds and the kept reproducers (fuzz/regressions/<target>/). Any crash,
 # sanitizer report, leak or timeout fails the script; the input that triggered it is left in build-fuzz/findings.
@@ -13,7 +13,7 @@ jobs=1
 targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --ci) seconds=${VKVO_FUZZ_CI_SECONDS:-10}; jobs=${VKVO_FUZZ_JOBS:-$(nproc)} ;;
+    --ci) seconds=${VKVO_FUZZ_CI_SECONDS:-5}; jobs=${VKVO_FUZZ_JOBS:-$(nproc)} ;;
     --time) seconds=$2; shift ;;
     --jobs) jobs=$2; shift ;;
     -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
