@@ -71,8 +71,6 @@ void write_refined_keyframes(const std::filesystem::path& file, const StereoOdom
     if (const auto it = timestamp_of.find(frame); it != timestamp_of.end()) writer.write_ns(it->second, pose);
 }
 
-// ATE and the rest of the per-frame trajectory (whole, and split by frame state) and of the refined keyframes,
-// against the ground truth found with the dataset; null when there is none or the run left too few poses.
 // What the pose estimates stood on, over the frames whose pose came from them (tracked or relocalised): how many
 // points and lines were inliers, so that a run shows where lines carried weight (issue 40's measure).
 nlohmann::json inlier_statistics(const std::vector<FrameRecord>& frames) {
@@ -98,6 +96,8 @@ nlohmann::json inlier_statistics(const std::vector<FrameRecord>& frames) {
           {"frames_with_line_inliers", with_lines}};
 }
 
+// ATE and the rest of the per-frame trajectory (whole, and split by frame state) and of the refined keyframes,
+// against the ground truth found with the dataset; null when there is none or the run left too few poses.
 nlohmann::json evaluate_outputs(const io::StereoDataset& dataset, const RunResult& result) {
   const auto groundtruth = io::read_dataset_groundtruth(dataset);
   if (!groundtruth) return nullptr;
