@@ -16,13 +16,13 @@
 #include "runtime/kernel.hpp"
 #include "runtime/ops.hpp"
 #include "runtime/sequence.hpp"
+#include "runtime/winograd_tile.hpp"
 
 namespace vkvo::rt {
 
 class WinogradConv3x3 {
  public:
-  // Output pixels per tile side: F(4x4, 3x3) or F(6x6, 3x3).
-  enum class Tile : std::uint32_t { f43 = 4, f63 = 6 };
+  using Tile = WinogradTile;
   // Transformed values per tile ((m + 2)^2): the GEMM batch.
   static constexpr std::uint32_t points(Tile tile) { return (std::uint32_t(tile) + 2) * (std::uint32_t(tile) + 2); }
 

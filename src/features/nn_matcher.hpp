@@ -6,22 +6,12 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "features/nn_matcher_params.hpp"
 #include "features/point_matcher.hpp"
 #include "runtime/context.hpp"
 #include "runtime/sequence.hpp"
 
 namespace vkvo::features {
-
-struct NnMatcherParams {
-  // Keep a mutual pair when 1 - cos(d0, d1) <= this. 0.245 == L2 distance 0.7 between unit descriptors, the
-  // SuperPoint demo's nearest-neighbour threshold.
-  float max_cosine_distance = 0.245f;
-  // Lowe's ratio on L2 distances (best < ratio * second best); <= 0 disables it.
-  float ratio = 0.0f;
-};
-
-// YAML section `nn_matcher`: max_cosine_distance (or min_similarity = 1 - max_cosine_distance), ratio.
-NnMatcherParams load_nn_matcher_params(const YAML::Node& section);
 
 class NnMatcher final : public PointMatcher {
  public:

@@ -8,9 +8,9 @@
 
 #include "backend/params.hpp"
 #include "features/lines/line_params.hpp"
-#include "features/nn_matcher.hpp"
-#include "features/superglue.hpp"
-#include "features/superpoint.hpp"
+#include "features/nn_matcher_params.hpp"
+#include "features/superglue_params.hpp"
+#include "features/superpoint_params.hpp"
 #include "geometry/triangulation.hpp"
 #include "io/config.hpp"
 #include "io/dataset.hpp"
