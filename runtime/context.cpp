@@ -1,5 +1,7 @@
 #include "runtime/context.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cctype>
@@ -432,7 +434,8 @@ void Context::save_pipeline_cache() const {
   const auto data = pipeline_cache_.getData();
   std::error_code ec;
   std::filesystem::create_directories(cache_file_.parent_path(), ec);
-  const auto tmp = cache_file_.string() + ".tmp";
+  // A name of this process's own: several processes (ctest -j, two CLIs) may save the same cache at once.
+  const auto tmp = cache_file_.string() + ".tmp" + std::to_string(::getpid());
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) return;  // a read-only home is no reason to fail
