@@ -92,8 +92,10 @@ vkvo::app::CommandRegistration reg{
     {"synth", "render a synthetic stereo sequence, or perturb the lighting of one", [](CLI::App& sub) {
        auto o = std::make_shared<SynthOptions>();
        sub.add_option("--out", o->out, "output folder (EuRoC/ASL layout + ground truth)")->required();
-       sub.add_option("--preset", o->preset, "default (200 frames 752x480, lights off in the middle) | small")
-           ->check(CLI::IsMember({"default", "small"}));
+       sub.add_option("--preset", o->preset,
+                      "default (200 frames 752x480, lights off in the middle) | low_texture (flat surfaces: few "
+                      "corners, many edges) | small")
+           ->check(CLI::IsMember({"default", "low_texture", "small"}));
        sub.add_option("--config", o->config, "YAML with synth parameters (top level or a `synth:` section)")
            ->check(CLI::ExistingFile);
        sub.add_option("--events", o->events,

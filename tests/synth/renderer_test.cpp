@@ -2,8 +2,11 @@
 // rendered 8-bit images against the same frame rendered without events).
 #include <cmath>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "synth/tiny_config.hpp"
 #include "tools/synth/renderer.hpp"
@@ -173,6 +176,43 @@ TEST(SynthPreset, DefaultMatchesTheDemoSpecification) {
   EXPECT_LT(config.events[0].last_frame, 2 * config.num_frames / 3);
   EXPECT_EQ(synth_preset("small").num_frames, 40);
   EXPECT_THROW(synth_preset("huge"), std::runtime_error);
+}
+
+// The low-texture preset renders the default room with flat surfaces: from the same viewpoint it has a fraction of
+// the textured room's corners (FAST, threshold 20) but keeps its long edges (straight Canny edge runs: the room's
+// corners, the boxes, the skirting board, the frames). 320x240, coarse textures: what tiny_config renders, larger.
+TEST(SynthPreset, LowTextureKeepsTheEdgesAndLosesTheCorners) {
+  const SynthConfig preset = synth_preset("low_texture");
+  EXPECT_TRUE(preset.scene.plain_surfaces);
+  EXPECT_EQ(preset.scene.posters_per_wall, 0);
+  EXPECT_TRUE(preset.events.empty());
+  EXPECT_EQ(preset.rig.width, synth_preset("default").rig.width);
+
+  SynthConfig textured = tiny_config(1);
+  textured.rig = RigParams{320, 240, 200.0, 200.0, 159.5, 119.5, 0.11};
+  SynthConfig plain = textured;
+  plain.scene.plain_surfaces = true;
+  plain.scene.posters_per_wall = 0;
+  const cv::Mat a = StereoRenderer(textured).render(0).left, b = StereoRenderer(plain).render(0).left;
+  const auto corners = [](const cv::Mat& image) {
+    std::vector<cv::KeyPoint> keypoints;
+    cv::FAST(image, keypoints, 20, true);
+    return static_cast<double>(keypoints.size());
+  };
+  const auto edge_lines = [](const cv::Mat& image) {
+    cv::Mat edges;
+    cv::Canny(image, edges, 40, 120);
+    std::vector<cv::Vec4i> lines;
+    cv::HoughLinesP(edges, lines, 1, CV_PI / 180, 30, 40, 2);
+    return static_cast<double>(lines.size());
+  };
+  const double corners_textured = corners(a), corners_plain = corners(b);
+  const double lines_textured = edge_lines(a), lines_plain = edge_lines(b);
+  RecordProperty("corners", fmt::format("{} textured, {} plain", corners_textured, corners_plain));
+  RecordProperty("lines", fmt::format("{} textured, {} plain", lines_textured, lines_plain));
+  EXPECT_LT(corners_plain, 0.25 * corners_textured) << corners_textured;
+  EXPECT_GE(lines_plain, 5.0);
+  EXPECT_GT(lines_plain, 0.5 * lines_textured) << lines_textured;
 }
 
 }  // namespace

@@ -92,6 +92,9 @@ TEST(SynthConfig, YamlOverridesAndTypeErrors) {
   EXPECT_DOUBLE_EQ(c.trajectory.speed, 0.3);
   ASSERT_EQ(c.events.size(), 1u);
   EXPECT_EQ(c.events[0].kind, EventKind::dimming);
+  const SynthConfig plain = load_synth_params(YAML::Load("preset: small\nplain_surfaces: true\nposters_per_wall: 0"));
+  EXPECT_TRUE(plain.scene.plain_surfaces);
+  EXPECT_EQ(plain.scene.posters_per_wall, 0);
   try {
     load_synth_params(YAML::Load("frames: many"));
     FAIL() << "no exception";
@@ -122,7 +125,11 @@ TEST(SynthConfig, UnusableValuesAreRefusedByName) {
   c = synth_preset("small");
   c.num_frames = 0;
   expect_refused(c, "frames");
+  c = synth_preset("small");
+  c.scene.posters_per_wall = -1;
+  expect_refused(c, "posters_per_wall");
   EXPECT_NO_THROW(validate_synth_config(synth_preset("small")));
+  EXPECT_NO_THROW(validate_synth_config(synth_preset("low_texture")));
 }
 
 // The demo's camera: about 0.5 m/s, inside the free part of the room, looking at surfaces 1-6 m away.

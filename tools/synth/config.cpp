@@ -18,13 +18,21 @@ SynthConfig synth_preset(std::string_view name) {
     config.events = {make_event(EventKind::lights_off, 95, 104)};
     return config;
   }
+  if (name == "low_texture") {
+    // The default room with flat surfaces and no posters, twice the boxes: few corners, many edges (lines).
+    config.scene.plain_surfaces = true;
+    config.scene.posters_per_wall = 0;
+    config.scene.num_boxes = 16;
+    config.events.clear();
+    return config;
+  }
   if (name == "small") {
     config.num_frames = 40;
     config.rig = RigParams{320, 240, 200.0, 200.0, 159.5, 119.5, 0.11};
     config.scene.texels_per_meter = 150.0;
     return config;
   }
-  throw std::runtime_error(fmt::format("synth: unknown preset '{}' (default, small)", name));
+  throw std::runtime_error(fmt::format("synth: unknown preset '{}' (default, low_texture, small)", name));
 }
 
 void validate_synth_config(const SynthConfig& c) {
@@ -55,6 +63,8 @@ void validate_synth_config(const SynthConfig& c) {
   positive("texels_per_meter", c.scene.texels_per_meter);
   positive("exposure", c.sensor.exposure);
   if (c.scene.num_boxes < 0) fail(fmt::format("num_boxes must be at least 0, got {}", c.scene.num_boxes));
+  if (c.scene.posters_per_wall < 0)
+    fail(fmt::format("posters_per_wall must be at least 0, got {}", c.scene.posters_per_wall));
   if (c.sensor.blur_samples < 1) fail(fmt::format("blur_samples must be at least 1, got {}", c.sensor.blur_samples));
 }
 
@@ -82,6 +92,8 @@ SynthConfig load_synth_params(const YAML::Node& section) {
   io::read_param(section, "start_yaw_deg", c.trajectory.start_yaw_deg);
   io::read_param(section, "num_boxes", c.scene.num_boxes);
   io::read_param(section, "texels_per_meter", c.scene.texels_per_meter);
+  io::read_param(section, "posters_per_wall", c.scene.posters_per_wall);
+  io::read_param(section, "plain_surfaces", c.scene.plain_surfaces);
   io::read_param(section, "exposure", c.sensor.exposure);
   io::read_param(section, "read_noise", c.sensor.read_noise);
   io::read_param(section, "shot_noise", c.sensor.shot_noise);

@@ -1,6 +1,7 @@
 #pragma once
 // Everything that defines a synthetic sequence: rig, sequence length and rate, scene, trajectory, sensor, events.
-// Presets "default" (the demo: ~200 frames, 752x480 at 20 Hz, lights off and on in the middle) and "small" (tests).
+// Presets "default" (the demo: ~200 frames, 752x480 at 20 Hz, lights off and on in the middle), "low_texture" (the
+// same room with flat surfaces, no posters and more boxes: few corners, many edges; no events) and "small" (tests).
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -41,14 +42,14 @@ struct SynthConfig {
   std::vector<IlluminationEvent> events;
 };
 
-// "default" or "small"; throws std::runtime_error for another name.
+// "default", "low_texture" or "small"; throws std::runtime_error for another name.
 SynthConfig synth_preset(std::string_view name);
 
 // Reads optional keys over a base (`preset:` in the section picks it, else "default"): seed, frames, rate_hz,
 // width, height, fx, fy, cx, cy, baseline, speed, yaw_rate_deg, yaw_sway_deg, pitch_deg, pitch_sway_deg,
-// roll_sway_deg, start_yaw_deg, num_boxes, texels_per_meter, exposure, read_noise, shot_noise, motion_blur,
-// exposure_time, blur_samples, events (list of event specs, see parse_event). Wrong type -> std::runtime_error
-// naming the key.
+// roll_sway_deg, start_yaw_deg, num_boxes, texels_per_meter, posters_per_wall, plain_surfaces, exposure, read_noise,
+// shot_noise, motion_blur, exposure_time, blur_samples, events (list of event specs, see parse_event). Wrong type ->
+// std::runtime_error naming the key.
 SynthConfig load_synth_params(const YAML::Node& section);
 
 // Throws std::runtime_error naming the parameter when a value cannot render (a resolution below 16x16 or beyond

@@ -28,14 +28,22 @@ class RoomBuilder {
   }
 
   Scene build() {
-    for (int face = 0; face < 4; ++face)
-      walls_[face] = paint::plaster(canvas_size(face), tpm_, rng_.uniform(0.55, 0.75), rng_);
+    const bool plain = params_.plain_surfaces;
+    for (int face = 0; face < 4; ++face) {
+      const double albedo = rng_.uniform(0.55, 0.75);
+      walls_[face] = plain ? paint::plain(canvas_size(face), tpm_, albedo, true, rng_)
+                           : paint::plaster(canvas_size(face), tpm_, albedo, rng_);
+    }
     add_door(rng_.uniform(0, 4));
     add_window(rng_.uniform(0, 4));
     for (int face = 0; face < 4; ++face) add_posters(face);
     for (int face = 0; face < 4; ++face) scene_.room_textures[face] = scene_.add_texture(Texture(walls_[face], tpm_));
-    scene_.room_textures[4] = scene_.add_texture(Texture(paint::planks(canvas_size(4), tpm_, rng_), tpm_));
-    scene_.room_textures[5] = scene_.add_texture(Texture(paint::ceiling_tiles(canvas_size(5), tpm_, rng_), tpm_));
+    scene_.room_textures[4] = scene_.add_texture(Texture(
+        plain ? paint::plain(canvas_size(4), tpm_, 0.4, false, rng_) : paint::planks(canvas_size(4), tpm_, rng_),
+        tpm_));
+    scene_.room_textures[5] = scene_.add_texture(Texture(plain ? paint::plain(canvas_size(5), tpm_, 0.85, false, rng_)
+                                                               : paint::ceiling_tiles(canvas_size(5), tpm_, rng_),
+                                                         tpm_));
     add_furniture();
     const Eigen::Vector3f c = scene_.room.center();
     const float top = scene_.room.max().z() - 0.1f, half = 0.25f * scene_.room.sizes().x();
@@ -146,28 +154,31 @@ class RoomBuilder {
       Eigen::AlignedBox3f padded = box;
       padded.extend(box.min() - Eigen::Vector3f::Constant(0.05f)).extend(box.max() + Eigen::Vector3f::Constant(0.05f));
       if (std::any_of(placed.begin(), placed.end(), [&](const auto& b) { return b.intersects(padded); })) continue;
-      std::array<int, 6> faces{};
-      for (int f = 0; f < 6; ++f) {
-        const Eigen::Vector2f e = face_extent(box, f);
-        faces[f] = scene_.add_texture(
-            Texture(paint::cardboard({cvRound(e.x() * tpm_), cvRound(e.y() * tpm_)}, tpm_, rng_), tpm_));
-      }
-      scene_.add_box(box, faces);
+      scene_.add_box(box, box_faces(box));
       placed.push_back(box);
       // Sometimes a smaller box on top: more corners, more depth edges.
       if (rng_.uniform(0, 3) == 0 && size.z() < 0.8f) {
         const Eigen::Vector3f top_size(size.x() * 0.6f, size.y() * 0.6f, static_cast<float>(rng_.uniform(0.2, 0.4)));
         const Eigen::Vector3f top_lo(lo.x() + 0.1f * size.x(), lo.y() + 0.2f * size.y(), lo.z() + size.z());
         const Eigen::AlignedBox3f top(top_lo, top_lo + top_size);
-        for (int f = 0; f < 6; ++f) {
-          const Eigen::Vector2f e = face_extent(top, f);
-          faces[f] = scene_.add_texture(
-              Texture(paint::cardboard({cvRound(e.x() * tpm_), cvRound(e.y() * tpm_)}, tpm_, rng_), tpm_));
-        }
-        scene_.add_box(top, faces);
+        scene_.add_box(top, box_faces(top));
       }
       ++i;
     }
+  }
+
+  // A texture per face: cardboard, or one flat albedo per face (so that the box's edges show) for plain surfaces.
+  std::array<int, 6> box_faces(const Eigen::AlignedBox3f& box) {
+    std::array<int, 6> faces{};
+    for (int f = 0; f < 6; ++f) {
+      const Eigen::Vector2f e = face_extent(box, f);
+      const cv::Size size(cvRound(e.x() * tpm_), cvRound(e.y() * tpm_));
+      faces[f] = scene_.add_texture(Texture(params_.plain_surfaces
+                                                ? paint::plain(size, tpm_, rng_.uniform(0.2, 0.9), false, rng_)
+                                                : paint::cardboard(size, tpm_, rng_),
+                                            tpm_));
+    }
+    return faces;
   }
 
   bool blocks_door(const Eigen::AlignedBox3f& box) const {

@@ -82,10 +82,15 @@ struct SceneParams {
   float furniture_band = 0.9f;  // boxes stay within this distance of a wall (the camera flies inside it)
   int posters_per_wall = 3;
   double texels_per_meter = 300.0;  // texture resolution of walls, floor, ceiling and boxes
+  // Low texture: walls, floor, ceiling and boxes in flat albedo with faint, smooth shading (no grain, planks,
+  // tiles or labels). Few corners remain, but every edge does: the room's, the boxes', the skirting board, the
+  // door and window frames.
+  bool plain_surfaces = false;
 };
 
 // A seeded procedural room: plaster walls with posters, a door with a frame, a window with a frame, plank floor,
-// tiled ceiling, cardboard boxes, two ceiling lights. The same params and seed give the same scene.
+// tiled ceiling, cardboard boxes, two ceiling lights (with plain_surfaces: flat walls, floor, ceiling and boxes). The
+// same params and seed give the same scene.
 Scene generate_indoor_scene(const SceneParams& params, uint64_t seed);
 
 }  // namespace vkvo::synth

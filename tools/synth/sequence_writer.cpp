@@ -45,7 +45,8 @@ void write_info(const SynthConfig& c, const fs::path& path) {
       "speed: {}\nyaw_rate_deg: {}\nyaw_sway_deg: {}\npitch_deg: {}\npitch_sway_deg: {}\n"
       "roll_sway_deg: {}\nstart_yaw_deg: {}\n",
       t.speed, t.yaw_rate_deg, t.yaw_sway_deg, t.pitch_deg, t.pitch_sway_deg, t.roll_sway_deg, t.start_yaw_deg);
-  f << fmt::format("num_boxes: {}\ntexels_per_meter: {}\n", c.scene.num_boxes, c.scene.texels_per_meter);
+  f << fmt::format("num_boxes: {}\ntexels_per_meter: {}\nposters_per_wall: {}\nplain_surfaces: {}\n", c.scene.num_boxes,
+                   c.scene.texels_per_meter, c.scene.posters_per_wall, c.scene.plain_surfaces);
   const SensorParams& s = c.sensor;
   f << fmt::format(
       "exposure: {}\nread_noise: {}\nshot_noise: {}\nmotion_blur: {}\nexposure_time: {}\n"

@@ -89,13 +89,23 @@ cv::Mat value_noise(cv::Size size, double largest_cell, int octaves, cv::RNG& rn
   return total > 0 ? cv::Mat(sum / total) : sum;
 }
 
+// A skirting board along the bottom: a long horizontal edge for the line detector.
+void paint_skirting(cv::Mat& wall, double tpm) {
+  const int skirting = texels(0.1, tpm);
+  cv::rectangle(wall, cv::Rect(0, wall.rows - skirting, wall.cols, skirting), gray(0.25), cv::FILLED);
+  cv::line(wall, {0, wall.rows - skirting}, {wall.cols, wall.rows - skirting}, gray(0.1), texels(0.01, tpm));
+}
+
 cv::Mat plaster(cv::Size size, double tpm, double base_albedo, cv::RNG& rng) {
   cv::Mat wall = noisy_surface(size, base_albedo, 0.12, 0.8 * tpm, 0.04, rng);
-  // A skirting board along the bottom: a long horizontal edge for the line detector.
-  const int skirting = texels(0.1, tpm);
-  cv::rectangle(wall, cv::Rect(0, size.height - skirting, size.width, skirting), gray(0.25), cv::FILLED);
-  cv::line(wall, {0, size.height - skirting}, {size.width, size.height - skirting}, gray(0.1), texels(0.01, tpm));
+  paint_skirting(wall, tpm);
   return wall;
+}
+
+cv::Mat plain(cv::Size size, double tpm, double albedo, bool skirting, cv::RNG& rng) {
+  cv::Mat surface = noisy_surface(size, albedo, 0.03, 2.0 * tpm, 0.0, rng);
+  if (skirting) paint_skirting(surface, tpm);
+  return surface;
 }
 
 cv::Mat planks(cv::Size size, double tpm, cv::RNG& rng) {

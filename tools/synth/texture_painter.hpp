@@ -12,6 +12,8 @@ cv::Mat plaster(cv::Size size, double tpm, double base_albedo, cv::RNG& rng);  /
 cv::Mat planks(cv::Size size, double tpm, cv::RNG& rng);                       // floor: wooden planks along u
 cv::Mat ceiling_tiles(cv::Size size, double tpm, cv::RNG& rng);                // ceiling: 0.6 m acoustic tiles
 cv::Mat cardboard(cv::Size size, double tpm, cv::RNG& rng);                    // box face: tape and label
+// Low-texture surfaces: flat albedo with faint shading over metres; `skirting` adds the wall's skirting board.
+cv::Mat plain(cv::Size size, double tpm, double albedo, bool skirting, cv::RNG& rng);
 
 // Drawn onto an existing canvas inside `area`.
 void poster(cv::Mat& canvas, const cv::Rect& area, double tpm, cv::RNG& rng);
