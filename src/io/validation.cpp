@@ -69,6 +69,8 @@ const std::vector<Rule>& rules() {
       non_negative("lines.association.extent_margin"),
       unit("lines.matching.score_threshold"),
       non_negative("lines.matching.shared_threshold"),
+      non_negative("lines.projection.max_distance"),
+      unit("lines.projection.min_overlap"),
       {"nn_matcher.max_cosine_distance", 0.0, 2.0},
       {"nn_matcher.min_similarity", -1.0, 1.0},
       unit("nn_matcher.ratio"),

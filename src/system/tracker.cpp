@@ -10,6 +10,7 @@
 #include "backend/pose_estimation.hpp"
 #include "features/lines/line_matching.hpp"
 #include "system/keyframe_lines.hpp"
+#include "system/map_line_projection.hpp"
 #include "system/stereo_keyframe.hpp"
 
 namespace vkvo::system {
@@ -222,9 +223,12 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
   out.map_point_matches = static_cast<int>(point_matches.size());
 
   const Stopwatch ipe_watch;
-  const auto estimate =
+  auto estimate =
       backend::estimate_pose(stereo_, current.frame.T_world_camera, point_matches, line_matches, config_.optimization);
   timing.add(Module::IPE, ipe_watch.ms());
+  if (estimate.success && config_.tracking.use_lines && config_.line_projection.enabled && !current.frame.lines.empty())
+    out.projected_lines = add_projected_lines(current, {point_matches, point_of_match}, out.reference_keyframe,
+                                              line_matches, line_of_match, estimate, timing);
   out.success = estimate.success;
   out.used_pnp = estimate.used_pnp;
   out.T_world_camera = estimate.T_world_camera;
@@ -235,6 +239,48 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
   for (std::size_t k = 0; k < line_of_match.size(); ++k)
     if (estimate.line_inliers[k]) out.lines.push_back(line_of_match[k]);
   return out;
+}
+
+int Tracker::add_projected_lines(const Tracked& current, const PointMatchesOfFrame& points, map::Id reference_keyframe,
+                                 std::vector<backend::LineMatch>& line_matches,
+                                 std::vector<std::pair<int, map::Id>>& line_of_match, backend::PoseEstimate& estimate,
+                                 TimingReport& timing) const {
+  const Stopwatch watch;
+  // The frame's associations at the estimate: inlier points, and the inlier lines, which keep their map lines.
+  std::vector<map::Id> point_ids(current.frame.keypoints.size(), map::kInvalidId);
+  for (std::size_t k = 0; k < points.landmarks.size(); ++k)
+    if (estimate.point_inliers[k])
+      point_ids[static_cast<std::size_t>(points.landmarks[k].first)] = points.landmarks[k].second;
+  std::vector<map::Id> line_ids(current.frame.lines.size(), map::kInvalidId);
+  std::vector<backend::LineMatch> lines;
+  std::vector<std::pair<int, map::Id>> line_landmarks;
+  for (std::size_t k = 0; k < line_of_match.size(); ++k) {
+    if (!estimate.line_inliers[k]) continue;
+    line_ids[static_cast<std::size_t>(line_of_match[k].first)] = line_of_match[k].second;
+    lines.push_back(line_matches[k]);
+    line_landmarks.push_back(line_of_match[k]);
+  }
+  const map::Id anchor = map_.keyframe(reference_keyframe) ? reference_keyframe : map_.last_keyframe_id();
+  const auto projected = match_lines_by_projection(
+      map_, lines_observed_by(map_, map_.local_window(anchor, config_.optimization.window_size)),
+      {estimate.T_world_camera, current.frame.lines, current.association.points_of_line, point_ids, line_ids},
+      stereo_.camera, config_.line_projection);
+  timing.add(Module::LM, watch.ms());
+  if (projected.empty()) return 0;
+
+  for (const ProjectedLineMatch& m : projected) {
+    lines.push_back(
+        {map_.line(m.map_line)->line, {current.frame.lines[static_cast<std::size_t>(m.line)].left, std::nullopt}});
+    line_landmarks.emplace_back(m.line, m.map_line);
+  }
+  const Stopwatch refine_watch;
+  auto refined = backend::estimate_pose(stereo_, estimate.T_world_camera, points.matches, lines, config_.optimization);
+  timing.add(Module::IPE, refine_watch.ms());
+  if (!refined.success) return 0;
+  estimate = std::move(refined);
+  line_matches = std::move(lines);
+  line_of_match = std::move(line_landmarks);
+  return static_cast<int>(projected.size());
 }
 
 std::optional<Relocalisation> Tracker::relocalise(const FrameInput& input, const Tracked& current, int exclude_segment,
@@ -450,15 +496,17 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
                                 config_.keyframe.min_tracked);
   }
   frames_since_keyframe_ = result.keyframe ? 0 : frames_since_keyframe_ + 1;
-  spdlog::debug("frame {}: {} keypoints, {} matches to {} {} ({} with map points), {} point / {} line inliers{}{}{}{}",
-                input.index, input.points.size(), result.matches,
-                reference.matched_previous_frame ? "previous frame"
-                : reference.rematched            ? "(re-matched) keyframe"
-                                                 : "keyframe",
-                reference.matched_previous_frame ? input.index - 1 : reference.reference_keyframe,
-                reference.map_point_matches, result.tracked_points, result.tracked_lines,
-                reference.used_pnp ? ", PnP" : "", result.keyframe ? ", keyframe" : "",
-                result.state == FrameState::relocalised ? ", RELOCALISED" : "", tracked ? "" : ", LOST");
+  spdlog::debug(
+      "frame {}: {} keypoints, {} matches to {} {} ({} with map points), {} point / {} line inliers ({} lines by "
+      "projection){}{}{}{}",
+      input.index, input.points.size(), result.matches,
+      reference.matched_previous_frame ? "previous frame"
+      : reference.rematched            ? "(re-matched) keyframe"
+                                       : "keyframe",
+      reference.matched_previous_frame ? input.index - 1 : reference.reference_keyframe, reference.map_point_matches,
+      result.tracked_points, result.tracked_lines, reference.projected_lines, reference.used_pnp ? ", PnP" : "",
+      result.keyframe ? ", keyframe" : "", result.state == FrameState::relocalised ? ", RELOCALISED" : "",
+      tracked ? "" : ", LOST");
 
   result.T_world_camera = current.frame.T_world_camera;
   result.segment = segment_;
@@ -547,6 +595,9 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
         new_lines.two_view, new_lines.seen_twice, ba.window.size(), ba.fixed.size(), ba.point_outliers,
         ba.line_outliers, culled_points, culled_lines);
   }
+  // The extents of the lines it sees grow with each view (and move with BA): projection matching checks overlap.
+  for (const map::Id id : map_.keyframe(kf_id)->line_ids)
+    if (map_.line(id)) map_.trim_line(id, stereo_.camera);
   tracked.frame = *map_.keyframe(kf_id);  // BA may have moved it; associations now include the new landmarks
   auto features = std::make_shared<const features::PointFeatures>(input.points);
   relocaliser_.add_keyframe(kf_id, features);

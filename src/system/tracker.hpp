@@ -16,6 +16,7 @@
 
 #include <Eigen/Geometry>
 
+#include "backend/pose_estimation.hpp"
 #include "features/lines/line_detector.hpp"
 #include "features/lines/point_line_association.hpp"
 #include "geometry/camera.hpp"
@@ -103,13 +104,27 @@ class Tracker {
     std::vector<int> map_matched;                        // keypoints matched to a map point, inliers or not
     int point_inliers = 0, line_inliers = 0;
     int matches = 0, map_point_matches = 0;
+    int projected_lines = 0;  // line matches found by projecting the local map (before outlier rejection)
     bool rematched = false, matched_previous_frame = false, used_pnp = false;
     map::Id reference_keyframe = map::kInvalidId;
+  };
+
+  // The point matches of a frame to map points, and per match its keypoint and map point.
+  struct PointMatchesOfFrame {
+    const std::vector<backend::PointMatch>& matches;
+    const std::vector<std::pair<int, map::Id>>& landmarks;
   };
 
   Tracked make_frame(const FrameInput& input, const Eigen::Isometry3d& pose, TimingReport& timing) const;
   TrackResult initialise(const FrameInput& input, Tracked& current, TimingReport& timing);
   ReferenceTracking track_reference(const FrameInput& input, Tracked& current, TimingReport& timing);
+  // The local map's lines that the matching through points left out, found by projection at `estimate`
+  // (map_line_projection.hpp): they join the line matches, the first estimate's outlier lines leave, and the pose
+  // is refined with them. Returns how many were found (0: nothing changed).
+  int add_projected_lines(const Tracked& current, const PointMatchesOfFrame& points, map::Id reference_keyframe,
+                          std::vector<backend::LineMatch>& line_matches,
+                          std::vector<std::pair<int, map::Id>>& line_of_match, backend::PoseEstimate& estimate,
+                          TimingReport& timing) const;
   std::optional<Relocalisation> relocalise(const FrameInput& input, const Tracked& current, int exclude_segment,
                                            int max_candidates, TimingReport& timing);
   void apply_relocalisation(const Relocalisation& found, Tracked& current) const;

@@ -31,6 +31,7 @@ VoConfig load_vo_config(const io::Config& config) {
   vo.origin = config.origin();
   vo.tracking = load_tracking_params(config.section("tracking"));
   vo.lines = features::load_line_pipeline_params(config.section("lines"));
+  vo.line_projection = load_line_projection_params(config.section("lines")["projection"]);
   vo.triangulation = geometry::load_triangulation_params(config.section("stereo"));
   if (!(vo.triangulation.min_depth < vo.triangulation.max_depth)) {
     const YAML::Node stereo = config.section("stereo");

@@ -15,6 +15,7 @@
 #include "io/config.hpp"
 #include "io/dataset.hpp"
 #include "map/map.hpp"
+#include "system/map_line_projection.hpp"
 #include "system/relocaliser.hpp"
 
 namespace vkvo::system {
@@ -41,6 +42,7 @@ struct VoConfig {
   std::filesystem::path origin;  // the file it came from
   TrackingParams tracking;
   features::LinePipelineParams lines;           // section lines: detector, association, matching
+  LineProjectionParams line_projection;         // section lines: projection
   geometry::TriangulationParams triangulation;  // section stereo
   backend::OptimizationParams optimization;     // section optimization
   backend::KeyframeParams keyframe;             // section keyframe
