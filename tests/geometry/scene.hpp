@@ -36,6 +36,13 @@ inline Eigen::Vector3d random_visible_point(std::mt19937& rng, const geometry::P
   return T_world_camera * (uz(rng) * cam.backproject(px));
 }
 
+// The segment A-B as the camera at T_world_camera sees it (both ends in front of it).
+inline geometry::Segment2d observe_segment(const geometry::PinholeCamera& cam, const Eigen::Isometry3d& T_world_camera,
+                                           const Eigen::Vector3d& A, const Eigen::Vector3d& B) {
+  const Eigen::Vector2d a = cam.project(T_world_camera.inverse() * A), b = cam.project(T_world_camera.inverse() * B);
+  return {a.x(), a.y(), b.x(), b.y()};
+}
+
 // Same line: directions parallel (either sign) and n/|v| equal up to that sign.
 inline void expect_same_line(const geometry::PlueckerLine& a, const geometry::PlueckerLine& b, double tol) {
   const geometry::PlueckerLine an = a.normalized(), bn = b.normalized();

@@ -13,19 +13,13 @@ namespace {
 
 using geometry::PlueckerLine;
 
-geometry::Segment2d observe(const geometry::PinholeCamera& cam, const Eigen::Isometry3d& T_world_camera,
-                            const Eigen::Vector3d& A, const Eigen::Vector3d& B) {
-  const Eigen::Vector2d a = cam.project(T_world_camera.inverse() * A), b = cam.project(T_world_camera.inverse() * B);
-  return {a.x(), a.y(), b.x(), b.y()};
-}
-
 // Two keyframes 0.4 m apart sideways (the reference first), both seeing five 3D segments as lines 0-4.
 struct TwoKeyframes {
   TwoKeyframes() {
     T_current.translation() = Eigen::Vector3d(0.4, 0.05, 0.1);
     for (const Eigen::Isometry3d& T : {T_reference, T_current}) {
       map::Frame f;
-      for (const auto& [A, B] : segments) f.lines.push_back({observe(camera, T, A, B), std::nullopt});
+      for (const auto& [A, B] : segments) f.lines.push_back({test::observe_segment(camera, T, A, B), std::nullopt});
       f.reset_associations();
       f.T_world_camera = T;
       (T.isApprox(T_reference) ? reference : current) = map.add_keyframe(f).id;

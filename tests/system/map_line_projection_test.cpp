@@ -15,12 +15,6 @@ namespace {
 
 using geometry::PlueckerLine;
 
-geometry::Segment2d observe(const geometry::PinholeCamera& cam, const Eigen::Isometry3d& T_world_camera,
-                            const Eigen::Vector3d& A, const Eigen::Vector3d& B) {
-  const Eigen::Vector2d a = cam.project(T_world_camera.inverse() * A), b = cam.project(T_world_camera.inverse() * B);
-  return {a.x(), a.y(), b.x(), b.y()};
-}
-
 // A keyframe at the origin that mapped `segments` (lines 0..n-1, map lines with their extents) and, optionally,
 // map points at `points` seen as `keypoints`, associated with its lines by `line_points`; then a frame at T_frame.
 struct MappedLines {
@@ -30,7 +24,8 @@ struct MappedLines {
   }
   void build() {
     map::Frame f;
-    for (const auto& [A, B] : segments) f.lines.push_back({observe(camera, Eigen::Isometry3d::Identity(), A, B), {}});
+    for (const auto& [A, B] : segments)
+      f.lines.push_back({test::observe_segment(camera, Eigen::Isometry3d::Identity(), A, B), {}});
     for (const Eigen::Vector3d& X : points) f.keypoints.push_back(camera.project(X));
     f.line_points = line_points;
     f.line_points.resize(f.lines.size());
@@ -49,7 +44,7 @@ struct MappedLines {
   // The frame's view of segment i, the part [from, to] of it (fractions of its length).
   map::LineFeature seen(int i, double from = 0.0, double to = 1.0) const {
     const auto& [A, B] = segments[static_cast<std::size_t>(i)];
-    return {observe(camera, T_frame, A + from * (B - A), A + to * (B - A)), {}};
+    return {test::observe_segment(camera, T_frame, A + from * (B - A), A + to * (B - A)), {}};
   }
   // `points_of_line`: the frame's keypoints per line; `point_ids`: the map point each tracks.
   std::vector<ProjectedLineMatch> match(const std::vector<map::LineFeature>& lines, std::vector<map::Id> line_ids = {},
