@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "eval/evaluate.hpp"
+#include "eval/metrics.hpp"
 #include "io/atomic_file.hpp"
 #include "io/frame_status.hpp"
 #include "io/map_ply.hpp"
@@ -80,14 +81,9 @@ nlohmann::json inlier_statistics(const std::vector<FrameRecord>& frames) {
     points.push_back(f.point_inliers);
     lines.push_back(f.line_inliers);
   }
-  const auto describe = [](std::vector<int> values) {
-    if (values.empty()) return nlohmann::json{{"mean", 0.0}, {"median", 0.0}, {"min", 0}};
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    const double median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-    double sum = 0;
-    for (const int v : values) sum += v;
-    return nlohmann::json{{"mean", sum / static_cast<double>(n)}, {"median", median}, {"min", values.front()}};
+  const auto describe = [](const std::vector<int>& values) {
+    const eval::ErrorStats stats = eval::compute_stats({values.begin(), values.end()});  // zeros when empty
+    return nlohmann::json{{"mean", stats.mean}, {"median", stats.median}, {"min", static_cast<int>(stats.min)}};
   };
   const auto with_lines = std::count_if(lines.begin(), lines.end(), [](int n) { return n > 0; });
   return {{"frames", points.size()},

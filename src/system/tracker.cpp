@@ -595,7 +595,8 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
         new_lines.two_view, new_lines.seen_twice, ba.window.size(), ba.fixed.size(), ba.point_outliers,
         ba.line_outliers, culled_points, culled_lines);
   }
-  // The extents of the lines it sees grow with each view (and move with BA): projection matching checks overlap.
+  // The extents of the lines it sees grow with each view (and move with BA): the map's outputs draw them and
+  // projection matching checks overlap against them.
   for (const map::Id id : map_.keyframe(kf_id)->line_ids)
     if (map_.line(id)) map_.trim_line(id, stereo_.camera);
   tracked.frame = *map_.keyframe(kf_id);  // BA may have moved it; associations now include the new landmarks
