@@ -260,4 +260,8 @@ void validate_calibration(const StereoCalibration& calibration, const std::strin
     throw std::runtime_error(fmt::format("{}: stereo baseline is zero (missing right camera extrinsics)", source));
 }
 
+void require_map(const YAML::Node& node, const std::string& name) {
+  if (node && !node.IsMap() && !node.IsNull()) throw std::runtime_error("config key '" + name + "': expected a map");
+}
+
 }  // namespace vkvo::io

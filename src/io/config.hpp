@@ -103,6 +103,10 @@ void read_param(const YAML::Node& section, const std::string& key, T& value) {
   value = param<T>(section, key, value);
 }
 
+// Throws std::runtime_error "config key '<name>': expected a map" unless `node` is absent, null or a map (a
+// sub-section given as a scalar or a list).
+void require_map(const YAML::Node& node, const std::string& name);
+
 // Applies the keys of a `camera:` section on top of `base` (e.g. the dataset's own calibration, or an empty one
 // for datasets without a calibration file). Keys, all optional:
 //   kalibr                                  a Kalibr camchain file (io/kalibr_camchain.hpp): replaces `base`,

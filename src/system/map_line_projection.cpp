@@ -4,7 +4,6 @@
 #include <cmath>
 #include <optional>
 #include <set>
-#include <stdexcept>
 #include <tuple>
 
 #include "geometry/line3d.hpp"
@@ -80,8 +79,7 @@ int shared_points(const std::vector<int>& keypoints, const std::vector<map::Id>&
 
 LineProjectionParams load_line_projection_params(const YAML::Node& section) {
   LineProjectionParams params;
-  if (section && !section.IsMap() && !section.IsNull())
-    throw std::runtime_error("config key 'lines.projection': expected a map");
+  io::require_map(section, "lines.projection");
   io::read_param(section, "enabled", params.enabled);
   io::read_param(section, "max_distance", params.max_distance);
   io::read_param(section, "min_overlap", params.min_overlap);

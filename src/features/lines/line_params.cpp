@@ -9,10 +9,6 @@
 namespace vkvo::features {
 namespace {
 
-void require_map(const YAML::Node& node, const std::string& name) {
-  if (node && !node.IsMap() && !node.IsNull()) throw std::runtime_error("config key '" + name + "': expected a map");
-}
-
 // Reads section[key] as one of two names, mapped to `first` or `second`; absent keeps `value`.
 template <typename Enum>
 void read_choice(const YAML::Node& section, const std::string& context, const char* key,
@@ -30,7 +26,7 @@ void read_choice(const YAML::Node& section, const std::string& context, const ch
 }
 
 MergeStage load_merge_stage(const YAML::Node& node, const std::string& context) {
-  require_map(node, context);
+  io::require_map(node, context);
   MergeStage stage;
   io::read_param(node, "max_angle", stage.merge.max_angle);
   io::read_param(node, "max_midpoint_distance", stage.merge.max_midpoint_distance);
@@ -43,7 +39,7 @@ MergeStage load_merge_stage(const YAML::Node& node, const std::string& context) 
 
 LineDetectorParams load_line_detector_params(const YAML::Node& section) {
   LineDetectorParams params;
-  require_map(section, "detector");
+  io::require_map(section, "detector");
   if (!section || !section.IsMap()) return params;
   const std::string ctx = "detector.";
 
@@ -55,7 +51,7 @@ LineDetectorParams load_line_detector_params(const YAML::Node& section) {
   io::read_param(section, "min_length", params.min_length);
 
   if (const YAML::Node fld = section["fld"]) {
-    require_map(fld, ctx + "fld");
+    io::require_map(fld, ctx + "fld");
     io::read_param(fld, "length_threshold", params.fld.length_threshold);
     io::read_param(fld, "distance_threshold", params.fld.distance_threshold);
     io::read_param(fld, "canny_threshold1", params.fld.canny_threshold1);
@@ -63,7 +59,7 @@ LineDetectorParams load_line_detector_params(const YAML::Node& section) {
     io::read_param(fld, "canny_aperture", params.fld.canny_aperture);
   }
   if (const YAML::Node lsd = section["lsd"]) {
-    require_map(lsd, ctx + "lsd");
+    io::require_map(lsd, ctx + "lsd");
     std::string refine = "standard";
     io::read_param(lsd, "refine", refine);
     if (refine == "none") {
@@ -87,7 +83,7 @@ LineDetectorParams load_line_detector_params(const YAML::Node& section) {
 
 AssociationParams load_association_params(const YAML::Node& section) {
   AssociationParams params;
-  require_map(section, "association");
+  io::require_map(section, "association");
   io::read_param(section, "max_distance", params.max_distance);
   io::read_param(section, "extent_margin", params.extent_margin);
   io::read_param(section, "require_both_extents", params.require_both_extents);
@@ -99,7 +95,7 @@ AssociationParams load_association_params(const YAML::Node& section) {
 
 LineMatchParams load_line_match_params(const YAML::Node& section) {
   LineMatchParams params;
-  require_map(section, "matching");
+  io::require_map(section, "matching");
   read_choice(section, "matching", "score", {"paper", LineMatchScore::kPaper}, {"airvo", LineMatchScore::kAirvo},
               params.score);
   io::read_param(section, "score_threshold", params.score_threshold);
@@ -109,7 +105,7 @@ LineMatchParams load_line_match_params(const YAML::Node& section) {
 
 LinePipelineParams load_line_pipeline_params(const YAML::Node& section) {
   LinePipelineParams params;
-  require_map(section, "lines");
+  io::require_map(section, "lines");
   if (!section || !section.IsMap()) return params;
   params.detector = load_line_detector_params(section["detector"]);
   params.association = load_association_params(section["association"]);
