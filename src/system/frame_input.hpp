@@ -2,6 +2,7 @@
 // What the feature stage hands to the optimisation stage for one stereo frame.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -25,6 +26,11 @@ struct FrameInput {
   features::PointMatches matches;
   map::Id reference_keyframe = map::kInvalidId;
   bool matched_previous_frame = false;
+  // The keyframe the feature stage tried first (whichever matches it kept) and the previous frame's features it
+  // could fall back to: when the tracker has a newer keyframe by now it makes the same choice again against that
+  // one, so the result does not depend on how far the feature stage ran ahead.
+  map::Id matched_against = map::kInvalidId;
+  std::shared_ptr<const features::PointFeatures> previous_points;
 
   double pe_ms = 0, le_ms = 0, pm_ms = 0;  // feature-stage timings
 };

@@ -59,6 +59,22 @@ std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> two_points_on_line(co
   return std::make_pair(a, b);
 }
 
+// The line fitted over the known 3D points associated with `line` (AirVO's map lines), each allowed 3 px of
+// association distance across the ray and 1 px of disparity error along it.
+std::optional<geometry::PlueckerLine> line_through_points(const geometry::StereoCamera& stereo,
+                                                          const std::vector<int>& line_points,
+                                                          const LeftKeypoints& keypoints, int min_points) {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> tolerances;
+  for (int k : line_points)
+    if (const auto& p = keypoints.known_positions[static_cast<std::size_t>(k)]) {
+      const double per_pixel = p->z() / stereo.camera.fx;
+      points.push_back(*p);
+      tolerances.push_back(3.0 * per_pixel * std::max(1.0, p->z() / stereo.baseline));
+    }
+  return geometry::fit_line_to_points(points, tolerances, min_points);
+}
+
 }  // namespace
 
 StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo, const AssociatedLines& left,
@@ -72,11 +88,21 @@ StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo, const
   const std::vector<int> partner =
       features::match_lines(left.association, right.association, keypoints.right_matches, match_params);
   for (std::size_t l = 0; l < line_count; ++l) {
-    const auto points_on_line = two_points_on_line(left.segments[l], left.association.points_of_line[l], keypoints);
     const int r = l < partner.size() ? partner[l] : -1;
-    if (r >= 0) {
-      const geometry::Segment2d right_segment = to_segment(right.segments[static_cast<std::size_t>(r)]);
-      const auto tri = geometry::triangulate_stereo_line(stereo, to_segment(left.segments[l]), right_segment,
+    const std::optional<geometry::Segment2d> right_segment =
+        r >= 0 ? std::optional(to_segment(right.segments[static_cast<std::size_t>(r)])) : std::nullopt;
+    if (params.line_fit_min_points > 0) {
+      if (auto fitted =
+              line_through_points(stereo, left.association.points_of_line[l], keypoints, params.line_fit_min_points)) {
+        out.right[l] = right_segment;
+        out.lines[l] = *fitted;
+        ++out.points;
+        continue;
+      }
+    }
+    const auto points_on_line = two_points_on_line(left.segments[l], left.association.points_of_line[l], keypoints);
+    if (right_segment) {
+      const auto tri = geometry::triangulate_stereo_line(stereo, to_segment(left.segments[l]), *right_segment,
                                                          points_on_line, params);
       if (tri.method != geometry::LineTriangulationMethod::failed) {
         out.right[l] = right_segment;

@@ -45,18 +45,12 @@ void run_point_task(FrameInput& in, PointFrontend& frontend, const MatchReferenc
   in.points = frontend.detect(in.left);
   in.pe_ms = pe.ms();
   const Stopwatch pm;
-  if (reference.features) {
-    in.matches = frontend.match(in.points, *reference.features);
-    in.reference_keyframe = reference.keyframe;
-  }
-  if (previous && static_cast<int>(in.matches.count()) < min_num_match) {
-    auto to_previous = frontend.match(in.points, *previous);
-    if (to_previous.count() > in.matches.count()) {
-      in.matches = std::move(to_previous);
-      in.reference_keyframe = map::kInvalidId;
-      in.matched_previous_frame = true;
-    }
-  }
+  ReferenceMatches matched = match_to_reference(frontend, in.points, reference, previous.get(), min_num_match);
+  in.matches = std::move(matched.matches);
+  in.reference_keyframe = matched.keyframe;
+  in.matched_previous_frame = matched.previous_frame;
+  in.matched_against = reference.keyframe;
+  in.previous_points = previous;
   in.pm_ms = pm.ms();
 }
 

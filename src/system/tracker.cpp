@@ -82,6 +82,25 @@ Tracker::Tracker(const VoConfig& config, const geometry::StereoCamera& stereo, P
         config.tracking.reference_image_area);
 }
 
+ReferenceMatches match_to_reference(PointFrontend& frontend, const features::PointFeatures& points,
+                                    const MatchReference& reference, const features::PointFeatures* previous,
+                                    int min_num_match) {
+  ReferenceMatches out;
+  if (reference.features) {
+    out.matches = frontend.match(points, *reference.features);
+    out.keyframe = reference.keyframe;
+  }
+  if (previous && static_cast<int>(out.matches.count()) < min_num_match) {
+    auto to_previous = frontend.match(points, *previous);
+    if (to_previous.count() > out.matches.count()) {
+      out.matches = std::move(to_previous);
+      out.keyframe = map::kInvalidId;
+      out.previous_frame = true;
+    }
+  }
+  return out;
+}
+
 MatchReference Tracker::reference() const {
   std::lock_guard lock(reference_mutex_);
   return reference_;
@@ -150,25 +169,22 @@ TrackResult Tracker::initialise(const FrameInput& input, Tracked& current, Timin
 Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tracked& current, TimingReport& timing) {
   ReferenceTracking out;
   // The feature stage runs up to queue_capacity frames ahead, so it may have matched against a keyframe that is
-  // no longer the last one (or one of an earlier map segment, or the previous frame while a keyframe was being
-  // made). The landmarks of such a keyframe are stale: the newer keyframes hold the tracked points and map
-  // culling removes the older keyframe's unconfirmed points. Match against the last keyframe here instead.
+  // no longer the last one. The landmarks of such a keyframe are stale (the newer keyframes hold the tracked points
+  // and map culling removes the older keyframe's unconfirmed points), and which keyframe it met depends on thread
+  // timing: match against the last keyframe here, with the same fallback, so that every run gives the same poses.
   const features::PointMatches* matches = &input.matches;
   out.reference_keyframe = input.reference_keyframe;
   out.matched_previous_frame = input.matched_previous_frame;
-  features::PointMatches rematched;
-  if (const MatchReference latest = reference();
-      latest.features && latest.keyframe != map::kInvalidId && latest.keyframe != input.reference_keyframe) {
+  ReferenceMatches rematched;
+  if (const MatchReference latest = reference(); latest.keyframe != input.matched_against) {
     const Stopwatch watch;
-    rematched = frontend_->match(input.points, *latest.features);
+    rematched = match_to_reference(*frontend_, input.points, latest, input.previous_points.get(),
+                                   config_.tracking.min_num_match);
     timing.add(Module::PM, watch.ms());
-    if (static_cast<int>(rematched.count()) >= config_.tracking.min_num_match ||
-        rematched.count() > input.matches.count()) {
-      matches = &rematched;
-      out.reference_keyframe = latest.keyframe;
-      out.matched_previous_frame = false;
-      out.rematched = true;
-    }
+    matches = &rematched.matches;
+    out.reference_keyframe = rematched.keyframe;
+    out.matched_previous_frame = rematched.previous_frame;
+    out.rematched = true;
   }
 
   // The reference the matches refer to: the keyframe, or the previous frame.

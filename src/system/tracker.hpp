@@ -65,6 +65,17 @@ struct MatchReference {
   std::shared_ptr<const features::PointFeatures> features;
 };
 
+// The point matches a frame is tracked from: to the reference keyframe, or to the previous frame when the keyframe
+// gives fewer than `min_num_match` and the previous frame more.
+struct ReferenceMatches {
+  features::PointMatches matches;
+  map::Id keyframe = map::kInvalidId;  // the keyframe they refer to; invalid when they refer to the previous frame
+  bool previous_frame = false;
+};
+ReferenceMatches match_to_reference(PointFrontend& frontend, const features::PointFeatures& points,
+                                    const MatchReference& reference, const features::PointFeatures* previous,
+                                    int min_num_match);
+
 class Tracker {
  public:
   // `stereo_frontend` runs the right-image network and the stereo matching of keyframes (and the matching of

@@ -28,6 +28,7 @@ FrameInput make_input(test::OracleFrontend& oracle, int frame, const MatchRefere
   if (reference.features) {
     in.matches = oracle.match(in.points, *reference.features);
     in.reference_keyframe = reference.keyframe;
+    in.matched_against = reference.keyframe;
   }
   return in;
 }
@@ -273,6 +274,7 @@ TEST(Tracker, YoungSegmentMergesIntoTheOldMap) {
     if (const MatchReference reference = tracker.reference(); reference.features) {
       in.matches = frontend.match(in.points, *reference.features);
       in.reference_keyframe = reference.keyframe;
+      in.matched_against = reference.keyframe;
     }
     const auto r = tracker.track(in, timing);
     const double error = (r.T_world_camera.translation() - scene.T_world_left[f].translation()).norm();
