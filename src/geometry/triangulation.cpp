@@ -1,7 +1,9 @@
 #include "geometry/triangulation.hpp"
 
+#include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
 #include "io/config.hpp"
@@ -14,6 +16,7 @@ TriangulationParams load_triangulation_params(const YAML::Node& section) {
   io::read_param(section, "min_depth", p.min_depth);
   io::read_param(section, "max_depth", p.max_depth);
   io::read_param(section, "min_line_plane_angle_deg", p.min_line_plane_angle_deg);
+  io::read_param(section, "line_fit_min_points", p.line_fit_min_points);
   return p;
 }
 
@@ -128,6 +131,33 @@ LineTriangulation triangulate_stereo_line(
     const TriangulationParams& params) {
   return triangulate_line(stereo.camera, {Eigen::Isometry3d::Identity(), left}, {stereo.T_left_right(), right},
                           points_on_line, params);
+}
+
+std::optional<PlueckerLine> fit_line_to_points(const std::vector<Eigen::Vector3d>& points,
+                                               const std::vector<double>& tolerances, int min_points) {
+  const std::size_t n = points.size();
+  const auto within = [&](const PlueckerLine& line, std::size_t k) {
+    return line.distance_to(points[k]) <= tolerances[k];
+  };
+  std::vector<std::size_t> best;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j) {
+      if ((points[i] - points[j]).norm() < 1e-3) continue;
+      const PlueckerLine hypothesis = PlueckerLine::from_points(points[i], points[j]);
+      std::vector<std::size_t> agreeing;
+      for (std::size_t k = 0; k < n; ++k)
+        if (within(hypothesis, k)) agreeing.push_back(k);
+      if (agreeing.size() > best.size()) best = std::move(agreeing);
+    }
+  if (best.size() < static_cast<std::size_t>(std::max(2, min_points))) return std::nullopt;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const std::size_t k : best) centroid += points[k];
+  centroid /= static_cast<double>(best.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const std::size_t k : best) scatter += (points[k] - centroid) * (points[k] - centroid).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  const Eigen::Vector3d direction = eigen.eigenvectors().col(2);  // eigenvalues ascend: the largest spread
+  return PlueckerLine::from_points(centroid, centroid + direction).normalized();
 }
 
 }  // namespace vkvo::geometry

@@ -2,6 +2,7 @@
 // Triangulation of points (stereo, two-view) and lines (two back-projected planes, or two points on the line).
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 #include <Eigen/Core>
@@ -20,6 +21,9 @@ struct TriangulationParams {
   double max_depth = 10.0;
   // Two back-projected planes meeting at a smaller angle are treated as degenerate (near-parallel).
   double min_line_plane_angle_deg = 1.0;
+  // 0: a stereo line is the intersection of its two back-projected planes (the paper). >= 2: it is first fitted
+  // over its associated stereo points when at least this many agree (AirVO's code), planes otherwise.
+  int line_fit_min_points = 0;
 };
 TriangulationParams load_triangulation_params(const YAML::Node& section);
 
@@ -59,6 +63,12 @@ LineTriangulation triangulate_line(const PinholeCamera& camera, const LineObserv
 // than the stereo one, but it is along the motion, so lines parallel to it stay degenerate (nullopt).
 std::optional<PlueckerLine> triangulate_two_view_line(const PinholeCamera& camera, const LineObservation& a,
                                                       const LineObservation& b, const TriangulationParams& params);
+
+// The line through the largest set of `points` that agree with one line, each within its own `tolerance`, fitted
+// to them by least squares (their principal axis); nullopt with fewer than max(2, min_points) agreeing points or
+// all of them within a millimetre. Every pair of points is tried as a hypothesis: lines carry tens of points.
+std::optional<PlueckerLine> fit_line_to_points(const std::vector<Eigen::Vector3d>& points,
+                                               const std::vector<double>& tolerances, int min_points);
 
 // Stereo convenience: left and right segments of the rectified pair -> line in the left camera frame.
 LineTriangulation triangulate_stereo_line(

@@ -83,6 +83,7 @@ const std::vector<Rule>& rules() {
       positive("stereo.min_depth"),
       positive("stereo.max_depth"),
       {"stereo.min_line_plane_angle_deg", 0.0, 90.0},
+      non_negative("stereo.line_fit_min_points"),
       non_negative("map.min_point_observations"),
       non_negative("map.min_line_observations"),
       non_negative("map.culling_grace_keyframes"),

@@ -1,5 +1,5 @@
 // Point and line triangulation from noiseless synthetic observations (exact recovery), gates, and the degenerate
-// line case falling back to two points.
+// line case falling back to two points; a line fitted over noisy points with outliers.
 #include <random>
 
 #include <gtest/gtest.h>
@@ -138,12 +138,39 @@ TEST(Triangulation, DegenerateStereoLineFallsBackToPoints) {
   test::expect_same_line(fallback.line, PlueckerLine::from_points(A, B), 1e-12);
 }
 
+// Points on a known line with noise inside their tolerance, plus off-line points (a keypoint associated to the
+// line's image but lying on the wall behind it): the fit keeps the line's points and recovers it to the noise.
+TEST(Triangulation, LineFittedOverPointsIgnoresPointsOffTheLine) {
+  const Eigen::Vector3d A(-0.8, 0.4, 4.0), B(0.9, -0.2, 5.0);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> along(0.0, 1.0), noise(-0.005, 0.005);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 12; ++i)
+    points.push_back(A + along(rng) * (B - A) + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
+  for (int i = 0; i < 5; ++i) points.push_back(A + along(rng) * (B - A) + Eigen::Vector3d(0, 0, 0.3 + 0.1 * i));
+  const std::vector<double> tolerances(points.size(), 0.02);
+  const auto line = fit_line_to_points(points, tolerances, 3);
+  ASSERT_TRUE(line);
+  const PlueckerLine truth = PlueckerLine::from_points(A, B);
+  // Each noisy point is within 0.0087 m (the half-diagonal of the noise box) of the line: the fit's ends too.
+  EXPECT_LT(line->distance_to(A), 0.01);
+  EXPECT_LT(line->distance_to(B), 0.01);
+  EXPECT_GT(std::abs(line->direction().dot(truth.direction())), std::cos(0.01));
+  // Exactly on the line: exact. Too few agreeing points, or all at one place: no line.
+  EXPECT_LT(fit_line_to_points({A, B, 0.5 * (A + B)}, {1e-9, 1e-9, 1e-9}, 3)->distance_to(0.3 * A + 0.7 * B), 1e-9);
+  EXPECT_FALSE(fit_line_to_points({A, B, A + Eigen::Vector3d(0, 1, 0)}, {0.01, 0.01, 0.01}, 3));
+  EXPECT_FALSE(fit_line_to_points({A, A, A}, {0.01, 0.01, 0.01}, 2));
+  EXPECT_FALSE(fit_line_to_points({}, {}, 2));
+}
+
 TEST(Triangulation, LoadParams) {
   const YAML::Node node = YAML::Load("{max_y_diff: 3.5, max_depth: 40}");
   const TriangulationParams p = load_triangulation_params(node);
   EXPECT_EQ(p.max_y_diff, 3.5);
   EXPECT_EQ(p.max_depth, 40.0);
   EXPECT_EQ(p.min_depth, 0.1);
+  EXPECT_EQ(p.line_fit_min_points, 0);
+  EXPECT_EQ(load_triangulation_params(YAML::Load("{line_fit_min_points: 4}")).line_fit_min_points, 4);
   EXPECT_THROW(load_triangulation_params(YAML::Load("{min_depth: [1, 2]}")), std::runtime_error);
 }
 
