@@ -1,5 +1,6 @@
 #pragma once
-// Triangulation of points (stereo, two-view) and lines (two back-projected planes, or two points on the line).
+// Triangulation of points (stereo, two-view) and lines (two back-projected planes, two points on the line, or a
+// robust fit over many).
 #include <optional>
 #include <utility>
 #include <vector>

@@ -59,8 +59,8 @@ std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> two_points_on_line(co
   return std::make_pair(a, b);
 }
 
-// The line fitted over the known 3D points associated with `line` (AirVO's map lines), each allowed 3 px of
-// association distance across the ray and 1 px of disparity error along it.
+// The line fitted over the known 3D points associated with a line (AirVO's map lines), each allowed 3 px across
+// the ray (the association distance) and, beyond the baseline's depth, 3 px of disparity error along it.
 std::optional<geometry::PlueckerLine> line_through_points(const geometry::StereoCamera& stereo,
                                                           const std::vector<int>& line_points,
                                                           const LeftKeypoints& keypoints, int min_points) {
