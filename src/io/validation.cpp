@@ -87,6 +87,7 @@ const std::vector<Rule>& rules() {
       non_negative("map.min_point_observations"),
       non_negative("map.min_line_observations"),
       non_negative("map.culling_grace_keyframes"),
+      {"map.mono_point_min_parallax_deg", 0.0, 90.0},
       non_negative("relocalisation.max_distance"),
       non_negative("relocalisation.max_angle"),
       unit("relocalisation.min_inlier_ratio"),

@@ -14,6 +14,8 @@ MapParams load_map_params(const YAML::Node& section) {
   io::read_param(section, "min_point_observations", p.min_point_observations);
   io::read_param(section, "min_line_observations", p.min_line_observations);
   io::read_param(section, "culling_grace_keyframes", p.culling_grace_keyframes);
+  io::read_param(section, "mono_points", p.mono_points);
+  io::read_param(section, "mono_point_min_parallax_deg", p.mono_point_min_parallax_deg);
   return p;
 }
 

@@ -77,11 +77,16 @@ struct MapLine {
   std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> endpoints;
 };
 
-// Culling rules. YAML keys: min_point_observations, min_line_observations, culling_grace_keyframes.
+// Culling rules and which points are mapped. YAML keys: min_point_observations, min_line_observations,
+// culling_grace_keyframes, mono_points, mono_point_min_parallax_deg.
 struct MapParams {
   int min_point_observations = 2;  // a landmark seen by fewer keyframes ...
   int min_line_observations = 2;
   int culling_grace_keyframes = 2;  // ... is erased once this many newer keyframes exist after its first one
+  // Points without a stereo match also mapped, from the reference keyframe's view (system/mono_points.hpp), when
+  // the two rays meet at this angle or more.
+  bool mono_points = false;
+  double mono_point_min_parallax_deg = 1.0;
 };
 MapParams load_map_params(const YAML::Node& section);
 

@@ -119,6 +119,18 @@ nlohmann::json evaluate_outputs(const io::StereoDataset& dataset, const RunResul
   return out;
 }
 
+// Map points with no stereo observation: the mono multi-view points (system/mono_points.hpp).
+std::size_t count_mono_points(const map::Map& map) {
+  std::size_t count = 0;
+  for (const auto& [id, point] : map.points()) {
+    bool stereo = false;
+    for (const auto& [kf, index] : point.observations)
+      if (const map::KeyFrame* keyframe = map.keyframe(kf); keyframe && keyframe->is_stereo(index)) stereo = true;
+    count += !stereo;
+  }
+  return count;
+}
+
 }  // namespace
 
 RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, PointFrontend& feature_frontend,
@@ -217,6 +229,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   result.merges = odometry.merges();
   result.map_points = map.points().size();
   result.map_lines = map.lines().size();
+  result.map_mono_points = count_mono_points(map);
   const io::MapGeometry geometry = map_geometry(map, centres);
   io::write_map_ply(options.output_dir / "map.ply", geometry);
   if (options.observer) options.observer->finish(geometry);
@@ -247,7 +260,8 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
                                {"successes_by_appearance", reloc.successes_by_source[0]},
                                {"successes_by_position", reloc.successes_by_source[1]},
                                {"successes_by_recency", reloc.successes_by_source[2]}};
-  summary["map"] = {{"points", result.map_points}, {"lines", result.map_lines}};
+  summary["map"] = {
+      {"points", result.map_points}, {"mono_points", result.map_mono_points}, {"lines", result.map_lines}};
   summary["lines_enabled"] = config.tracking.use_lines;
   summary["inliers_per_tracked_frame"] = result.inliers;
   summary["timing"] = result.timing.to_json(result.frames, result.wall_seconds);

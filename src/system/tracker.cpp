@@ -11,6 +11,7 @@
 #include "features/lines/line_matching.hpp"
 #include "system/keyframe_lines.hpp"
 #include "system/map_line_projection.hpp"
+#include "system/mono_points.hpp"
 #include "system/stereo_keyframe.hpp"
 
 namespace vkvo::system {
@@ -195,6 +196,7 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
           out.reference_keyframe != map::kInvalidId ? map_.keyframe(out.reference_keyframe) : nullptr) {
     reference = kf;
     current.reference_keyframe = kf->id;
+    current.reference_point_partner = matches->matches0;
     keyframe_association = association_of(*kf);
     reference_association = &keyframe_association;
   } else if (out.matched_previous_frame && last_frame_) {
@@ -328,6 +330,7 @@ void Tracker::apply_relocalisation(const Relocalisation& found, Tracked& current
   for (const auto& [line, map_line] : found.lines) current.frame.line_ids[line] = map_line;
   current.reference_keyframe = found.keyframe;
   current.reference_line_partner = found.line_partner;
+  current.reference_point_partner.clear();  // relocalisation keeps only the inliers with map points
 }
 
 SegmentMerge Tracker::merge_into(const Relocalisation& found, Tracked& current, TimingReport& timing) {
@@ -377,6 +380,7 @@ SegmentMerge Tracker::merge_into(const Relocalisation& found, Tracked& current, 
   if (joint.success) current.frame.T_world_camera = joint.T_world_camera;
   current.reference_keyframe = found.keyframe;
   current.reference_line_partner = found.line_partner;
+  current.reference_point_partner.clear();  // relocalisation keeps only the inliers with map points
   spdlog::info(
       "frame {}: map segment {} merged into segment {} (keyframe {}, {} point / {} line inliers; moved "
       "{:.3f} m, {:.2f} deg; fused {} points, {} lines)",
@@ -596,6 +600,14 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     map_.add_point_observation(id, kf_id, static_cast<int>(i));
     ++new_points;
   }
+  NewMonoPoints mono;
+  if (config_.map.mono_points && !new_segment) {
+    const MonoPointParams mono_params{config_.map.mono_point_min_parallax_deg,
+                                      config_.optimization.pixel_sigma * std::sqrt(5.991),
+                                      config_.triangulation.min_depth};
+    mono = add_mono_points(map_, kf_id, tracked.reference_keyframe, tracked.reference_point_partner, stereo_.camera,
+                           mono_params);
+  }
   const KeyframeLineParams line_params{
       config_.triangulation, config_.optimization.pixel_sigma * std::sqrt(config_.optimization.mono_line_chi2)};
   const NewKeyframeLines new_lines =
@@ -605,10 +617,10 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     const auto ba = backend::local_bundle_adjustment(map_, kf_id, stereo_, config_.optimization);
     const auto [culled_points, culled_lines] = map_.cull(config_.map);
     spdlog::debug(
-        "keyframe {} (frame {}): {} stereo matches, {} triangulated; +{} points, +{} lines ({} from two "
-        "keyframes, {} seen by both); BA window {} ({} fixed), outliers {}/{}, culled {}/{}",
-        kf_id, input.index, stereo_matches.count(), stereo_points.count, new_points, new_lines.added,
-        new_lines.two_view, new_lines.seen_twice, ba.window.size(), ba.fixed.size(), ba.point_outliers,
+        "keyframe {} (frame {}): {} stereo matches, {} triangulated; +{} points, +{} mono points (of {}), +{} "
+        "lines ({} from two keyframes, {} seen by both); BA window {} ({} fixed), outliers {}/{}, culled {}/{}",
+        kf_id, input.index, stereo_matches.count(), stereo_points.count, new_points, mono.added, mono.candidates,
+        new_lines.added, new_lines.two_view, new_lines.seen_twice, ba.window.size(), ba.fixed.size(), ba.point_outliers,
         ba.line_outliers, culled_points, culled_lines);
   }
   // The extents of the lines it sees grow with each view (and move with BA): the map's outputs draw them and

@@ -102,10 +102,10 @@ class Tracker {
   struct Tracked {
     map::Frame frame;
     features::PointLineAssociation association;
-    // The keyframe the frame's points were matched against and, per line of the frame, its partner line there
-    // (-1: none). Unset when the reference was the previous frame or lines are off.
+    // The keyframe the frame's points were matched against and, per line / keypoint of the frame, its partner
+    // there (-1: none). Unset when the reference was the previous frame (and line partners when lines are off).
     map::Id reference_keyframe = map::kInvalidId;
-    std::vector<int> reference_line_partner;
+    std::vector<int> reference_line_partner, reference_point_partner;
   };
   // Tracking against the reference: the estimate and which map landmark each inlier stands for.
   struct ReferenceTracking {

@@ -163,6 +163,11 @@ TEST(Map, LoadParams) {
   EXPECT_EQ(p.min_point_observations, 3);
   EXPECT_EQ(p.min_line_observations, 2);
   EXPECT_THROW(load_map_params(YAML::Load("{culling_grace_keyframes: many}")), std::runtime_error);
+  EXPECT_FALSE(p.mono_points);
+  const MapParams mono = load_map_params(YAML::Load("{mono_points: true, mono_point_min_parallax_deg: 2.5}"));
+  EXPECT_TRUE(mono.mono_points);
+  EXPECT_DOUBLE_EQ(mono.mono_point_min_parallax_deg, 2.5);
+  EXPECT_THROW(load_map_params(YAML::Load("{mono_points: sometimes}")), std::runtime_error);
 }
 
 }  // namespace

@@ -149,5 +149,31 @@ TEST(VoSynth, ProjectedMapLinesAddLineInliers) {
   EXPECT_LT(projected.evaluation.ate.translation_m.rmse, 0.15);
 }
 
+// Mono multi-view points (map.mono_points) where the stereo pair cannot place points: with the stereo depth gate at
+// 2 m, most of the room's keypoints are beyond it. Keyframes then also map them from the reference keyframe's view,
+// so frames track more map points, as completely and as accurately.
+TEST(VoSynth, MonoPointsMapKeypointsBeyondTheStereoRange) {
+  const auto synth = small_preset(40);
+  const auto dir = write_sequence(synth, "vo_synth_mono");
+  VoConfig config = small_preset_config();
+  config.triangulation.max_depth = 2.0;
+  config.tracking.init_min_stereo = 20;  // the first frame's near keypoints start the map
+  const auto stereo_only = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "stereo");
+  config.map.mono_points = true;
+  const auto with_mono = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "mono");
+  const double points_before = stereo_only.result.inliers["points"]["mean"];
+  const double points_after = with_mono.result.inliers["points"]["mean"];
+  RecordProperty("point_inliers", fmt::format("{:.1f} stereo only, {:.1f} with mono points ({} in the map)",
+                                              points_before, points_after, with_mono.result.map_mono_points));
+  RecordProperty(
+      "ate_m", fmt::format("{:.4f} stereo only, {:.4f} with mono points", stereo_only.evaluation.ate.translation_m.rmse,
+                           with_mono.evaluation.ate.translation_m.rmse));
+  EXPECT_EQ(stereo_only.result.map_mono_points, 0u);
+  EXPECT_GT(with_mono.result.map_mono_points, 20u);
+  EXPECT_GT(points_after, 1.1 * points_before);
+  EXPECT_GE(with_mono.result.frames_tracked, stereo_only.result.frames_tracked);
+  EXPECT_LT(with_mono.evaluation.ate.translation_m.rmse, 0.15);
+}
+
 }  // namespace
 }  // namespace vkvo::system
