@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <vector>
 
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
@@ -28,11 +29,29 @@ struct Observation {
   bool outlier = false;
 };
 
-// The window's variables, in storage that stays put while Ceres holds pointers into it.
-struct Variables {
-  std::map<Id, PoseBlock> poses;
-  std::map<Id, Eigen::Vector3d> points;
-  std::map<Id, Eigen::Matrix<double, 6, 1>> lines;
+// The window's variables, in storage that stays put while Ceres holds pointers into it. Ceres orders the blocks
+// of an elimination group by their addresses, so each group lives in one buffer in id order: every run then
+// eliminates in the same order and gives the same result to the bit, whatever the heap's layout.
+class Variables {
+ public:
+  Variables(const std::set<Id>& poses, const std::set<Id>& points, const std::set<Id>& lines)
+      : poses_(poses.size()), landmarks_(3 * points.size() + 6 * lines.size()) {
+    for (Id id : poses) pose_slot_.emplace(id, pose_slot_.size());
+    for (Id id : points) point_slot_.emplace(id, point_slot_.size());
+    for (Id id : lines) line_slot_.emplace(id, line_slot_.size());
+  }
+  PoseBlock& pose(Id id) { return poses_[pose_slot_.at(id)]; }
+  double* point(Id id) { return landmarks_.data() + 3 * point_slot_.at(id); }
+  double* line(Id id) { return landmarks_.data() + 3 * point_slot_.size() + 6 * line_slot_.at(id); }
+  // Ids in ascending order (std::map keys).
+  const std::map<Id, std::size_t>& pose_ids() const { return pose_slot_; }
+  const std::map<Id, std::size_t>& point_ids() const { return point_slot_; }
+  const std::map<Id, std::size_t>& line_ids() const { return line_slot_; }
+
+ private:
+  std::map<Id, std::size_t> pose_slot_, point_slot_, line_slot_;
+  std::vector<PoseBlock> poses_;
+  std::vector<double> landmarks_;  // points (3 values each), then lines (6 each): both in elimination group 0
 };
 
 double unrobust_chi2(ceres::Problem& problem, ceres::ResidualBlockId block) {
@@ -50,29 +69,33 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
   result.window = map.local_window(keyframe, params.window_size, params.min_covisible);
   const std::set<Id> in_window(result.window.begin(), result.window.end());
 
-  Variables vars;
+  std::set<Id> point_ids, line_ids;
   for (Id kf_id : result.window) {
     const map::KeyFrame& kf = *map.keyframe(kf_id);
-    vars.poses[kf_id] = PoseBlock::from_T_world_camera(kf.T_world_camera);
     for (Id p : kf.point_ids)
-      if (const map::MapPoint* mp = map.point(p); mp && !mp->bad) vars.points.emplace(p, mp->position);
+      if (const map::MapPoint* mp = map.point(p); mp && !mp->bad) point_ids.insert(p);
     for (Id l : kf.line_ids)
-      if (const map::MapLine* ml = map.line(l); ml && !ml->bad) vars.lines.emplace(l, ml->line.normalized().vector());
+      if (const map::MapLine* ml = map.line(l); ml && !ml->bad) line_ids.insert(l);
   }
   std::set<Id> fixed;
   auto note_observers = [&](const auto& observations) {
     for (const auto& obs : observations)
       if (!in_window.count(obs.first)) fixed.insert(obs.first);
   };
-  for (const auto& [id, X] : vars.points) note_observers(map.point(id)->observations);
-  for (const auto& [id, L] : vars.lines) note_observers(map.line(id)->observations);
+  for (Id id : point_ids) note_observers(map.point(id)->observations);
+  for (Id id : line_ids) note_observers(map.line(id)->observations);
   if (fixed.empty()) fixed.insert(*in_window.begin());  // gauge: hold the oldest window keyframe
-  for (Id kf_id : fixed) {
-    vars.poses[kf_id] = PoseBlock::from_T_world_camera(map.keyframe(kf_id)->T_world_camera);
-    result.fixed.push_back(kf_id);
-  }
-  result.num_points = static_cast<int>(vars.points.size());
-  result.num_lines = static_cast<int>(vars.lines.size());
+  std::set<Id> pose_ids = in_window;
+  pose_ids.insert(fixed.begin(), fixed.end());
+  result.fixed.assign(fixed.begin(), fixed.end());
+
+  Variables vars(pose_ids, point_ids, line_ids);
+  for (Id kf_id : pose_ids) vars.pose(kf_id) = PoseBlock::from_T_world_camera(map.keyframe(kf_id)->T_world_camera);
+  for (Id id : point_ids) Eigen::Map<Eigen::Vector3d>(vars.point(id)) = map.point(id)->position;
+  for (Id id : line_ids)
+    Eigen::Map<Eigen::Matrix<double, 6, 1>>(vars.line(id)) = map.line(id)->line.normalized().vector();
+  result.num_points = static_cast<int>(point_ids.size());
+  result.num_lines = static_cast<int>(line_ids.size());
 
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -86,19 +109,22 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
   const auto stereo_line_loss = make_robust_loss(params.stereo_line_chi2, params.line_weight);
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
 
-  for (auto& [id, pose] : vars.poses) {
-    problem.AddParameterBlock(pose.data(), 7, pose_manifold.get());
-    ordering->AddElementToGroup(pose.data(), 1);
-    if (fixed.count(id)) problem.SetParameterBlockConstant(pose.data());
+  for (const auto& [id, slot] : vars.pose_ids()) {
+    double* pose = vars.pose(id).data();
+    problem.AddParameterBlock(pose, 7, pose_manifold.get());
+    ordering->AddElementToGroup(pose, 1);
+    if (fixed.count(id)) problem.SetParameterBlockConstant(pose);
   }
 
   std::vector<Observation> observations;
-  for (auto& [id, X] : vars.points) {
-    problem.AddParameterBlock(X.data(), 3);
-    ordering->AddElementToGroup(X.data(), 0);
+  for (const auto& [id, slot] : vars.point_ids()) {
+    double* point = vars.point(id);
+    const Eigen::Map<const Eigen::Vector3d> X(point);
+    problem.AddParameterBlock(point, 3);
+    ordering->AddElementToGroup(point, 0);
     for (const auto& [kf_id, index] : map.point(id)->observations) {
       const map::KeyFrame& kf = *map.keyframe(kf_id);
-      PoseBlock& pose = vars.poses.at(kf_id);
+      PoseBlock& pose = vars.pose(kf_id);
       Observation obs{nullptr, id, kf_id, false, 0, false};
       if ((kf.T_world_camera.inverse() * X).z() <= 1e-6) {  // behind the camera: not usable, drop it
         obs.outlier = true;
@@ -109,22 +135,23 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
       obs.chi2_threshold = m.stereo() ? params.stereo_point_chi2 : params.mono_point_chi2;
       obs.block =
           problem.AddResidualBlock(make_point_cost(stereo, m, params.pixel_sigma).release(),
-                                   m.stereo() ? stereo_point_loss.get() : mono_point_loss.get(), pose.data(), X.data());
+                                   m.stereo() ? stereo_point_loss.get() : mono_point_loss.get(), pose.data(), point);
       observations.push_back(obs);
       ++result.point_observations;
     }
   }
-  for (auto& [id, L] : vars.lines) {
-    problem.AddParameterBlock(L.data(), 6, line_manifold.get());
-    ordering->AddElementToGroup(L.data(), 0);
+  for (const auto& [id, slot] : vars.line_ids()) {
+    double* line = vars.line(id);
+    problem.AddParameterBlock(line, 6, line_manifold.get());
+    ordering->AddElementToGroup(line, 0);
     for (const auto& [kf_id, index] : map.line(id)->observations) {
       const map::KeyFrame& kf = *map.keyframe(kf_id);
       const LineMeasurement m{kf.lines[index].left, kf.lines[index].right};
-      PoseBlock& pose = vars.poses.at(kf_id);
+      PoseBlock& pose = vars.pose(kf_id);
       Observation obs{nullptr, id, kf_id, true, m.stereo() ? params.stereo_line_chi2 : params.mono_line_chi2, false};
       obs.block =
           problem.AddResidualBlock(make_line_cost(stereo, m, params.pixel_sigma).release(),
-                                   m.stereo() ? stereo_line_loss.get() : mono_line_loss.get(), pose.data(), L.data());
+                                   m.stereo() ? stereo_line_loss.get() : mono_line_loss.get(), pose.data(), line);
       observations.push_back(obs);
       ++result.line_observations;
     }
@@ -155,9 +182,11 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
   }
   if (!result.solved) return result;
 
-  for (Id kf_id : result.window) map.keyframe(kf_id)->T_world_camera = vars.poses.at(kf_id).T_world_camera();
-  for (const auto& [id, X] : vars.points) map.point(id)->position = X;
-  for (const auto& [id, L] : vars.lines) map.line(id)->line = geometry::PlueckerLine::from_vector(L).normalized();
+  for (Id kf_id : result.window) map.keyframe(kf_id)->T_world_camera = vars.pose(kf_id).T_world_camera();
+  for (const auto& [id, slot] : vars.point_ids()) map.point(id)->position = Eigen::Map<Eigen::Vector3d>(vars.point(id));
+  for (const auto& [id, slot] : vars.line_ids())
+    map.line(id)->line =
+        geometry::PlueckerLine::from_vector(Eigen::Map<Eigen::Matrix<double, 6, 1>>(vars.line(id))).normalized();
   for (const auto& obs : observations) {
     if (!obs.outlier) continue;
     if (obs.is_line) {
