@@ -15,8 +15,8 @@ TEST(MonoPoints, TriangulatesUnmappedMatchesWithParallaxAndBothObservations) {
   T_current.translation() = Eigen::Vector3d(0.4, 0.05, 0.1);
   T_current.linear() = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY()).toRotationMatrix();
   // Keypoint k of both keyframes sees point k. Point 4 is 200 m away: 0.4 m of baseline gives it about 0.1 deg.
-  const std::vector<Eigen::Vector3d> points = {{0.3, 0.2, 4.0},  {-0.5, 0.1, 3.0}, {0.6, -0.4, 5.0}, {-0.2, -0.3, 3.5},
-                                               {5.0, 3.0, 200.0}, {0.9, 0.5, 6.0}, {-0.9, 0.6, 2.5}};
+  const std::vector<Eigen::Vector3d> points = {{0.3, 0.2, 4.0},   {-0.5, 0.1, 3.0}, {0.6, -0.4, 5.0}, {-0.2, -0.3, 3.5},
+                                               {5.0, 3.0, 200.0}, {0.9, 0.5, 6.0},  {-0.9, 0.6, 2.5}};
   map::Map map;
   map::Id reference = map::kInvalidId, current = map::kInvalidId;
   for (const Eigen::Isometry3d& T : {Eigen::Isometry3d::Identity(), T_current}) {
@@ -28,8 +28,8 @@ TEST(MonoPoints, TriangulatesUnmappedMatchesWithParallaxAndBothObservations) {
   }
   const map::Id tracked = map.add_point(points[1]);  // keypoint 1 of the new keyframe tracks a map point
   map.add_point_observation(tracked, current, 1);
-  map.keyframe(current)->right_x[2] = 100.0;         // keypoint 2 has a stereo match: the stereo pair maps it
-  const map::Id mapped = map.add_point(points[3]);   // the reference's keypoint 3 is mapped already
+  map.keyframe(current)->right_x[2] = 100.0;        // keypoint 2 has a stereo match: the stereo pair maps it
+  const map::Id mapped = map.add_point(points[3]);  // the reference's keypoint 3 is mapped already
   map.add_point_observation(mapped, reference, 3);
   // Keypoint 5 is wrongly matched to the reference's keypoint 6 (another point).
   const std::vector<int> partner = {0, 1, 2, 3, 4, 6, -1};

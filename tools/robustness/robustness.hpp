@@ -29,9 +29,10 @@ struct Scenario {
 
 // The fixed set for a sequence of `frames` frames at `rate_hz`, centred on its middle: clean; lights off for 0.5,
 // 1 and 2 s at 0 % and at 3 % of the light with 2 DN of noise; a slow dimming to 10 % (from a quarter to half of
-// the sequence, then staying there); gamma flicker (0.5 / 2.0 on alternate frames) over the middle half; the right
-// camera at 40 % exposure throughout; an exposure step to 35 % for both cameras from the middle on. Lights-off
-// stretches longer than a third of the sequence are left out.
+// the sequence, then staying there); the same dimming to 15 % with 2 DN of read noise (dark noisy); gamma flicker
+// (0.5 / 2.0 on alternate frames) over the middle half; the right camera at 40 % exposure throughout; an exposure
+// step to 35 % for both cameras from the middle on. Lights-off stretches longer than a third of the sequence are
+// left out.
 std::vector<Scenario> standard_scenarios(int frames, double rate_hz);
 // The scenarios whose names are listed (all when `names` is empty); throws naming an unknown one.
 std::vector<Scenario> select_scenarios(const std::vector<Scenario>& all, const std::vector<std::string>& names);
