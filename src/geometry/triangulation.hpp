@@ -22,9 +22,10 @@ struct TriangulationParams {
   double max_depth = 10.0;
   // Two back-projected planes meeting at a smaller angle are treated as degenerate (near-parallel).
   double min_line_plane_angle_deg = 1.0;
-  // 0: a stereo line is the intersection of its two back-projected planes (the paper). >= 2: it is first fitted
-  // over its associated stereo points when at least this many agree (AirVO's code), planes otherwise.
-  int line_fit_min_points = 0;
+  // >= 2: a stereo line is first fitted over its associated stereo points when at least this many agree (AirVO's
+  // code), planes otherwise; measured better than planes alone (docs/accuracy.md). 0: the two back-projected planes
+  // alone (the paper).
+  int line_fit_min_points = 3;
 };
 TriangulationParams load_triangulation_params(const YAML::Node& section);
 

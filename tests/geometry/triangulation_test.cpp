@@ -169,7 +169,7 @@ TEST(Triangulation, LoadParams) {
   EXPECT_EQ(p.max_y_diff, 3.5);
   EXPECT_EQ(p.max_depth, 40.0);
   EXPECT_EQ(p.min_depth, 0.1);
-  EXPECT_EQ(p.line_fit_min_points, 0);
+  EXPECT_EQ(p.line_fit_min_points, 3);
   EXPECT_EQ(load_triangulation_params(YAML::Load("{line_fit_min_points: 4}")).line_fit_min_points, 4);
   EXPECT_THROW(load_triangulation_params(YAML::Load("{min_depth: [1, 2]}")), std::runtime_error);
 }

@@ -109,29 +109,34 @@ TEST(StereoKeyframe, StereoLinesFromPlanesOrFromTwoKnownPoints) {
   for (std::size_t l = 0; l < segments.size(); ++l)  // the scene's lines are far enough apart to own their points
     ASSERT_EQ(left_association.points_of_line[l].size(), static_cast<std::size_t>(kPointsPerLine)) << "line " << l;
 
-  const geometry::TriangulationParams params;
-  const StereoPoints stereo_points = triangulate_stereo_points(stereo, kp.left, kp.right, kp.matches, params);
-  ASSERT_EQ(stereo_points.count, 4 * kPointsPerLine + 1);
-  const auto known = known_points_in_camera(stereo_points, {}, Eigen::Isometry3d::Identity());
+  for (const bool fit : {false, true}) {
+    SCOPED_TRACE(fit ? "line fit over points" : "planes, then two points");
+    geometry::TriangulationParams params;
+    params.line_fit_min_points = fit ? 3 : 0;
+    const StereoPoints stereo_points = triangulate_stereo_points(stereo, kp.left, kp.right, kp.matches, params);
+    ASSERT_EQ(stereo_points.count, 4 * kPointsPerLine + 1);
+    const auto known = known_points_in_camera(stereo_points, {}, Eigen::Isometry3d::Identity());
 
-  const StereoLines out =
-      triangulate_stereo_lines(stereo, {left_lines, left_association}, {right_lines, right_association},
-                               {kp.left.keypoints, kp.matches.matches0, known}, {}, params);
-  ASSERT_EQ(out.lines.size(), segments.size());
-  ASSERT_EQ(out.right.size(), segments.size());
-  EXPECT_EQ(out.planes, 2);
-  EXPECT_EQ(out.points, 2);
-  const int right_index_of[] = {0, 1, -1, 2, 3};
-  for (int l : {0, 1, 3}) {
-    ASSERT_TRUE(out.right[l]) << "line " << l;
-    EXPECT_EQ(*out.right[l], to_segment(right_lines[right_index_of[l]]));
+    const StereoLines out =
+        triangulate_stereo_lines(stereo, {left_lines, left_association}, {right_lines, right_association},
+                                 {kp.left.keypoints, kp.matches.matches0, known}, {}, params);
+    ASSERT_EQ(out.lines.size(), segments.size());
+    ASSERT_EQ(out.right.size(), segments.size());
+    // Fitted over their stereo points (the default), every line with three or more of them; the planes otherwise.
+    EXPECT_EQ(out.planes, fit ? 0 : 2);
+    EXPECT_EQ(out.points, fit ? 4 : 2);
+    const int right_index_of[] = {0, 1, -1, 2, 3};
+    for (int l : {0, 1, 3}) {
+      ASSERT_TRUE(out.right[l]) << "line " << l;
+      EXPECT_EQ(*out.right[l], to_segment(right_lines[right_index_of[l]]));
+    }
+    for (int l : {2, 4}) EXPECT_FALSE(out.right[l]) << "line " << l;
+    for (int l : {0, 1, 2, 3}) {
+      ASSERT_TRUE(out.lines[l]) << "line " << l;
+      test::expect_same_line(*out.lines[l], PlueckerLine::from_points(segments[l].first, segments[l].second), 1e-3);
+    }
+    EXPECT_FALSE(out.lines[4]);
   }
-  for (int l : {2, 4}) EXPECT_FALSE(out.right[l]) << "line " << l;
-  for (int l : {0, 1, 2, 3}) {
-    ASSERT_TRUE(out.lines[l]) << "line " << l;
-    test::expect_same_line(*out.lines[l], PlueckerLine::from_points(segments[l].first, segments[l].second), 1e-3);
-  }
-  EXPECT_FALSE(out.lines[4]);
 }
 
 }  // namespace
