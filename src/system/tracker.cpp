@@ -554,22 +554,29 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
   timing.add(Module::PM, watch.lap());
   const StereoPoints stereo_points =
       triangulate_stereo_points(stereo_, input.points, right, stereo_matches, config_.triangulation);
-  if (new_segment && (static_cast<int>(input.points.size()) < config_.tracking.init_min_keypoints ||
-                      stereo_points.count < config_.tracking.init_min_stereo)) {
+  const bool use_lines = config_.tracking.use_lines && !input.lines.empty();
+  // Whether a new segment has enough to start from: keypoints and stereo points, and with init_counts_lines the
+  // detected and the triangulated lines (`stereo_lines`: at most all of the detected ones before triangulation).
+  const auto enough_for_a_map = [&](int stereo_lines) {
+    const int lines = config_.tracking.init_counts_lines && use_lines ? static_cast<int>(input.lines.size()) : 0;
+    const int stereo_line_count = lines > 0 ? stereo_lines : 0;
+    if (static_cast<int>(input.points.size()) + lines >= config_.tracking.init_min_keypoints &&
+        stereo_points.count + stereo_line_count >= config_.tracking.init_min_stereo)
+      return true;
     spdlog::debug(
-        "frame {}: cannot start a map segment ({} keypoints, {} stereo matches, {} pass the stereo gates; "
+        "frame {}: cannot start a map segment ({} keypoints, {} stereo matches, {} pass the stereo gates, {} lines; "
         "need {} / {})",
-        input.index, input.points.size(), stereo_matches.count(), stereo_points.count,
+        input.index, input.points.size(), stereo_matches.count(), stereo_points.count, lines,
         config_.tracking.init_min_keypoints, config_.tracking.init_min_stereo);
     timing.add(Module::BA, watch.lap());
     return false;
-  }
+  };
+  if (new_segment && !enough_for_a_map(static_cast<int>(input.lines.size()))) return false;
   map::Frame& frame = tracked.frame;
-  frame.right_x = stereo_points.right_x;
 
   StereoLines stereo_lines;
   const double keyframe_ms = watch.lap();  // triangulation; the rest of the keyframe's work is added below
-  if (config_.tracking.use_lines && !input.lines.empty()) {
+  if (use_lines) {
     const auto right_lines = right_line_detector_.detect(input.right);
     timing.add(Module::LE, watch.lap());
     const auto right_association =
@@ -585,8 +592,12 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     stereo_lines = triangulate_stereo_lines(
         stereo_, {input.lines, tracked.association}, {right_lines, right_association},
         {input.points.keypoints, gated, known_positions}, config_.lines.matching, config_.triangulation);
-    for (std::size_t l = 0; l < frame.lines.size(); ++l) frame.lines[l].right = stereo_lines.right[l];
   }
+  if (new_segment && config_.tracking.init_counts_lines && !enough_for_a_map(stereo_lines.planes + stereo_lines.points))
+    return false;
+  frame.right_x = stereo_points.right_x;
+  for (std::size_t l = 0; l < stereo_lines.right.size() && l < frame.lines.size(); ++l)
+    frame.lines[l].right = stereo_lines.right[l];
 
   map::KeyFrame& added = map_.add_keyframe(frame);
   added.segment = segment_;

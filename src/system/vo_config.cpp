@@ -15,6 +15,7 @@ TrackingParams load_tracking_params(const YAML::Node& section) {
   io::read_param(section, "min_num_match", p.min_num_match);
   io::read_param(section, "init_min_keypoints", p.init_min_keypoints);
   io::read_param(section, "init_min_stereo", p.init_min_stereo);
+  io::read_param(section, "init_counts_lines", p.init_counts_lines);
   io::read_param(section, "reference_image_area", p.reference_image_area);
   io::read_param(section, "use_lines", p.use_lines);
   io::read_param(section, "queue_capacity", p.queue_capacity);

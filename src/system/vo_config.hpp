@@ -25,6 +25,10 @@ struct TrackingParams {
   int min_num_match = 30;        // fewer matches to the last keyframe: match against the last frame instead
   int init_min_keypoints = 150;  // a frame starts the map with at least this many keypoints ...
   int init_min_stereo = 100;     // ... and this many triangulated stereo matches
+  // Lines count towards both: a line observation constrains a pose as much as a point's (2 equations per view), so
+  // a frame of edges and few corners (a plain room) can start a map; a line counts for a keypoint when detected
+  // and for a stereo match when triangulated.
+  bool init_counts_lines = true;
   // The two counts above are for images of this many pixels (EuRoC, 752 x 480);
   // smaller images scale them down by the area ratio (SuperPoint finds corners per area: 97 on a 320 x 240
   // rendered room), never up. 0 disables the scaling.

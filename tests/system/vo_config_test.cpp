@@ -13,6 +13,8 @@ TEST(VoConfig, InitialisationThresholdsScaleDownWithTheImageArea) {
   ASSERT_EQ(config.tracking.init_min_keypoints, 150);
   ASSERT_EQ(config.tracking.init_min_stereo, 100);
   ASSERT_DOUBLE_EQ(config.tracking.reference_image_area, 752.0 * 480.0);
+  EXPECT_TRUE(config.tracking.init_counts_lines);
+  EXPECT_FALSE(load_tracking_params(YAML::Load("{init_counts_lines: false}")).init_counts_lines);
 
   const VoConfig euroc = scale_to_image(config, 752, 480);  // the reference size: unchanged
   EXPECT_EQ(euroc.tracking.init_min_keypoints, 150);

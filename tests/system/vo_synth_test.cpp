@@ -24,6 +24,14 @@ synth::SynthConfig small_preset(int frames) {
   return synth;
 }
 
+// The small preset's room with plain walls and no posters: few corners, many edges.
+synth::SynthConfig plain_room(int frames) {
+  auto synth = small_preset(frames);
+  synth.scene.plain_surfaces = true;
+  synth.scene.posters_per_wall = 0;
+  return synth;
+}
+
 // Renders `synth` into <temp dir named `name`>/seq and returns the temp dir.
 fs::path write_sequence(const synth::SynthConfig& synth, const char* name) {
   const auto dir = test::temp_dir(name);
@@ -129,10 +137,7 @@ TEST(VoSynth, TwoSecondsOfDarknessEndOnOneMap) {
 // (flat surfaces: the lines are the boxes' and the frames' edges): more line inliers per tracked frame than the
 // matching through points alone, and tracking as complete and accurate.
 TEST(VoSynth, ProjectedMapLinesAddLineInliers) {
-  auto synth = small_preset(40);
-  synth.scene.plain_surfaces = true;
-  synth.scene.posters_per_wall = 0;
-  const auto dir = write_sequence(synth, "vo_synth_projection");
+  const auto dir = write_sequence(plain_room(40), "vo_synth_projection");
   VoConfig config = small_preset_config();
   const auto through_points = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "points");
   config.line_projection.enabled = true;
@@ -147,6 +152,29 @@ TEST(VoSynth, ProjectedMapLinesAddLineInliers) {
   EXPECT_GT(lines_after, 1.3 * lines_before + 0.5);
   EXPECT_EQ(projected.result.frames_tracked, through_points.result.frames_tracked);
   EXPECT_LT(projected.evaluation.ate.translation_m.rmse, 0.15);
+}
+
+// A plain room (few corners, many edges) at thresholds its first frame's points alone do not meet: with
+// tracking.init_counts_lines its lines make up the difference, so the map starts a frame earlier.
+TEST(VoSynth, LinesCountTowardsStartingAMap) {
+  const auto dir = write_sequence(plain_room(40), "vo_synth_init_lines");
+  VoConfig config = small_preset_config();
+  config.tracking.reference_image_area = 0;
+  // Frame 0 has 241 keypoints (158 stereo), frame 1 247 (158), and 8 or more lines each: points alone start the
+  // map at frame 1, points and lines at frame 0.
+  config.tracking.init_min_keypoints = 245;
+  config.tracking.init_min_stereo = 155;
+  config.tracking.init_counts_lines = false;
+  const auto points_only = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "points");
+  config.tracking.init_counts_lines = true;
+  const auto with_lines = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "lines");
+  RecordProperty("frames_tracked", fmt::format("{} points only, {} counting lines", points_only.result.frames_tracked,
+                                               with_lines.result.frames_tracked));
+  RecordProperty("ate_m",
+                 fmt::format("{:.4f} points only, {:.4f} counting lines", points_only.evaluation.ate.translation_m.rmse,
+                             with_lines.evaluation.ate.translation_m.rmse));
+  EXPECT_GT(with_lines.result.frames_tracked, points_only.result.frames_tracked);
+  EXPECT_LT(with_lines.evaluation.ate.translation_m.rmse, 0.15);
 }
 
 // Mono multi-view points (map.mono_points) where the stereo pair cannot place points: with the stereo depth gate at
