@@ -43,10 +43,6 @@ class Variables {
   PoseBlock& pose(Id id) { return poses_[pose_slot_.at(id)]; }
   double* point(Id id) { return landmarks_.data() + 3 * point_slot_.at(id); }
   double* line(Id id) { return landmarks_.data() + 3 * point_slot_.size() + 6 * line_slot_.at(id); }
-  // Ids in ascending order (std::map keys).
-  const std::map<Id, std::size_t>& pose_ids() const { return pose_slot_; }
-  const std::map<Id, std::size_t>& point_ids() const { return point_slot_; }
-  const std::map<Id, std::size_t>& line_ids() const { return line_slot_; }
 
  private:
   std::map<Id, std::size_t> pose_slot_, point_slot_, line_slot_;
@@ -109,7 +105,7 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
   const auto stereo_line_loss = make_robust_loss(params.stereo_line_chi2, params.line_weight);
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
 
-  for (const auto& [id, slot] : vars.pose_ids()) {
+  for (const Id id : pose_ids) {
     double* pose = vars.pose(id).data();
     problem.AddParameterBlock(pose, 7, pose_manifold.get());
     ordering->AddElementToGroup(pose, 1);
@@ -117,7 +113,7 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
   }
 
   std::vector<Observation> observations;
-  for (const auto& [id, slot] : vars.point_ids()) {
+  for (const Id id : point_ids) {
     double* point = vars.point(id);
     const Eigen::Map<const Eigen::Vector3d> X(point);
     problem.AddParameterBlock(point, 3);
@@ -140,7 +136,7 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
       ++result.point_observations;
     }
   }
-  for (const auto& [id, slot] : vars.line_ids()) {
+  for (const Id id : line_ids) {
     double* line = vars.line(id);
     problem.AddParameterBlock(line, 6, line_manifold.get());
     ordering->AddElementToGroup(line, 0);
@@ -183,8 +179,8 @@ LocalBAResult local_bundle_adjustment(map::Map& map, Id keyframe, const geometry
   if (!result.solved) return result;
 
   for (Id kf_id : result.window) map.keyframe(kf_id)->T_world_camera = vars.pose(kf_id).T_world_camera();
-  for (const auto& [id, slot] : vars.point_ids()) map.point(id)->position = Eigen::Map<Eigen::Vector3d>(vars.point(id));
-  for (const auto& [id, slot] : vars.line_ids())
+  for (const Id id : point_ids) map.point(id)->position = Eigen::Map<Eigen::Vector3d>(vars.point(id));
+  for (const Id id : line_ids)
     map.line(id)->line =
         geometry::PlueckerLine::from_vector(Eigen::Map<Eigen::Matrix<double, 6, 1>>(vars.line(id))).normalized();
   for (const auto& obs : observations) {
