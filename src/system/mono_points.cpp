@@ -9,7 +9,7 @@
 namespace vkvo::system {
 namespace {
 
-// The point's depth in the camera and its reprojection error there, or nullopt when it is too near or behind.
+// The point's reprojection error in the camera, or nullopt when it lies nearer than `min_depth` (or behind it).
 std::optional<double> reprojection_error(const geometry::PinholeCamera& camera, const Eigen::Isometry3d& T_world_camera,
                                          const Eigen::Vector3d& point_world, const Eigen::Vector2d& pixel,
                                          double min_depth) {
