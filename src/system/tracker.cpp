@@ -593,8 +593,11 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
         stereo_, {input.lines, tracked.association}, {right_lines, right_association},
         {input.points.keypoints, gated, known_positions}, config_.lines.matching, config_.triangulation);
   }
-  if (new_segment && config_.tracking.init_counts_lines && !enough_for_a_map(stereo_lines.planes + stereo_lines.points))
+  if (new_segment && config_.tracking.init_counts_lines &&
+      !enough_for_a_map(stereo_lines.planes + stereo_lines.points)) {
+    timing.add(Module::BA, keyframe_ms);  // the stereo points' triangulation, timed before the lines
     return false;
+  }
   frame.right_x = stereo_points.right_x;
   for (std::size_t l = 0; l < stereo_lines.right.size() && l < frame.lines.size(); ++l)
     frame.lines[l].right = stereo_lines.right[l];
