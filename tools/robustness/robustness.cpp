@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -35,6 +36,24 @@ double rmse_of(const nlohmann::json& evaluation, const char* part, const char* s
   if (!evaluation.contains(part) || !evaluation[part].contains(stats)) return 0.0;
   const auto& s = evaluation[part][stats];
   return s["count"].get<std::size_t>() > 0 ? s["rmse"].get<double>() : 0.0;
+}
+
+eval::EvalOptions eval_options_for(const io::GroundTruth& groundtruth) {
+  eval::EvalOptions options;
+  options.positions_only = !groundtruth.has_orientation;
+  return options;
+}
+
+// The poses of `trajectory` whose timestamps `other` has too (both sorted by time, as the runs write them).
+io::Trajectory at_common_times(const io::Trajectory& trajectory, const io::Trajectory& other) {
+  constexpr double kSameTime = 1e-6;  // s: both runs read the timestamps from the same files
+  io::Trajectory common;
+  auto it = other.begin();
+  for (const auto& pose : trajectory) {
+    while (it != other.end() && it->t < pose.t - kSameTime) ++it;
+    if (it != other.end() && std::abs(it->t - pose.t) <= kSameTime) common.push_back(pose);
+  }
+  return common;
 }
 
 struct Plotted {
@@ -138,6 +157,15 @@ fs::path sequence_folder(const fs::path& dataset) {
   return dataset;
 }
 
+PairedAte paired_ate(const io::Trajectory& first, const io::Trajectory& second, const io::Trajectory& groundtruth,
+                     const eval::EvalOptions& options) {
+  const io::Trajectory first_common = at_common_times(first, second);
+  const io::Trajectory second_common = at_common_times(second, first);
+  const auto a = eval::evaluate(first_common, groundtruth, options);
+  const auto b = eval::evaluate(second_common, groundtruth, options);
+  return {.first_m = a.ate.translation_m.rmse, .second_m = b.ate.translation_m.rmse, .frames = a.associated_poses};
+}
+
 std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const system::VoConfig& config,
                                           const std::vector<Scenario>& scenarios,
                                           system::PointFrontend& feature_frontend,
@@ -160,6 +188,9 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const s
       spdlog::info("robustness: {}: {}", scenario.name, scenario.description);
       synth::perturb_sequence(dataset, input, scenario.events, {.noise_sigma = scenario.noise_sigma});
     }
+    std::vector<fs::path> trajectories;  // of this scenario's runs that succeeded, with lines first
+    std::optional<io::GroundTruth> groundtruth;
+    const std::size_t first_result = results.size();
     for (const bool lines : options.ablate_lines ? std::vector<bool>{true, false} : std::vector<bool>{true}) {
       system::VoConfig run_config = config;
       run_config.tracking.use_lines = config.tracking.use_lines && lines;
@@ -190,14 +221,14 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const s
         r.ate_measured_m = rmse_of(run.evaluation, "trajectory_by_state", "measured_translation_m");
         r.ate_gap_m = rmse_of(run.evaluation, "trajectory_by_state", "bridged_translation_m");
         r.ate_keyframes_m = rmse_of(run.evaluation, "keyframes_refined", "ate_translation_m");
+        if (!groundtruth) groundtruth = io::read_dataset_groundtruth(*opened);
         if (lines) {
-          const auto groundtruth = io::read_dataset_groundtruth(*opened);
-          eval::EvalOptions eval_options;
-          eval_options.positions_only = !groundtruth->has_orientation;
-          const auto evaluation = eval::evaluate(io::read_tum(run.trajectory), groundtruth->poses, eval_options);
+          const auto evaluation =
+              eval::evaluate(io::read_tum(run.trajectory), groundtruth->poses, eval_options_for(*groundtruth));
           plots.push_back({fmt::format("{}: ATE {:.3f} m, {} seg.", scenario.name, r.ate_m, r.segments),
                            evaluation.aligned_estimate_positions, evaluation.groundtruth_positions});
         }
+        trajectories.push_back(run.trajectory);
       } catch (const std::exception& e) {
         r.error = e.what();
         spdlog::error("robustness: {}{}: {}", scenario.name, lines ? "" : " (no lines)", e.what());
@@ -205,6 +236,17 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const s
       spdlog::info("robustness: {}{}: ATE {:.4f} m, {} untracked, {} segment(s), {} relocalisation(s)", scenario.name,
                    lines ? "" : " (no lines)", r.ate_m, r.frames_untracked, r.segments, r.relocalisations);
       results.push_back(std::move(r));
+    }
+    if (trajectories.size() == 2) {
+      try {
+        const PairedAte paired = paired_ate(io::read_tum(trajectories[0]), io::read_tum(trajectories[1]),
+                                            groundtruth->poses, eval_options_for(*groundtruth));
+        results[first_result].ate_paired_m = paired.first_m;
+        results[first_result + 1].ate_paired_m = paired.second_m;
+        results[first_result].frames_paired = results[first_result + 1].frames_paired = paired.frames;
+      } catch (const std::exception& e) {
+        spdlog::warn("robustness: {}: no paired ATE with and without lines: {}", scenario.name, e.what());
+      }
     }
     if (!scenario.events.empty() && !options.keep_sequences) fs::remove_all(input);
   }
@@ -225,13 +267,15 @@ std::string format_table(const std::vector<ScenarioResult>& results) {
   std::string table =
       "| scenario | ATE m | x clean | ATE tracked m | ATE gap m | untracked | segments | relocalised | inliers points "
       "/ lines |";
-  table += ablation ? " ATE w/o lines m | lines' gain |\n" : "\n";
-  table += ablation ? "|---|---|---|---|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|---|\n";
+  table +=
+      ablation ? " ATE w/o lines m | frames both estimated | ATE there with / w/o lines m | lines' gain |\n" : "\n";
+  table +=
+      ablation ? "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     if (!r.lines) continue;
     if (!r.error.empty()) {
       table += fmt::format("| {} | failed: {} |{}\n", r.scenario, r.error,
-                           ablation ? " | | | | | | | | |" : " | | | | | | |");
+                           ablation ? " | | | | | | | | | | |" : " | | | | | | |");
       continue;
     }
     const std::string ratio = clean && clean->ate_m > 0 ? fmt::format("{:.2f}", r.ate_m / clean->ate_m) : "-";
@@ -240,12 +284,19 @@ std::string format_table(const std::vector<ScenarioResult>& results) {
                          ratio, r.ate_measured_m, gap, r.frames_untracked, r.segments, r.relocalisations,
                          r.point_inliers_median, r.line_inliers_median);
     if (ablation) {
+      // The gain is measured where both runs estimated poses (falling back on the whole runs).
       const ScenarioResult* without = find(r.scenario, false);
-      if (without && without->error.empty() && without->ate_m > 0)
-        table +=
-            fmt::format(" {:.4f} | {:+.0f} % |", without->ate_m, 100.0 * (without->ate_m - r.ate_m) / without->ate_m);
-      else
-        table += " - | - |";
+      if (without && without->error.empty() && without->ate_m > 0) {
+        const bool paired = r.frames_paired > 0 && without->ate_paired_m > 0;
+        const double with_ate = paired ? r.ate_paired_m : r.ate_m;
+        const double without_ate = paired ? without->ate_paired_m : without->ate_m;
+        table += fmt::format(" {:.4f} | {} | {} | {:+.0f} % |", without->ate_m,
+                             paired ? fmt::format("{}", r.frames_paired) : "-",
+                             paired ? fmt::format("{:.4f} / {:.4f}", with_ate, without_ate) : "-",
+                             100.0 * (without_ate - with_ate) / without_ate);
+      } else {
+        table += " - | - | - | - |";
+      }
     }
     table += "\n";
   }
@@ -270,6 +321,8 @@ nlohmann::json to_json(const std::vector<ScenarioResult>& results) {
                    {"frames_per_second", r.frames_per_second},
                    {"point_inliers_median", r.point_inliers_median},
                    {"line_inliers_median", r.line_inliers_median},
+                   {"ate_paired_m", r.ate_paired_m},
+                   {"frames_paired", r.frames_paired},
                    {"error", r.error}});
   return out;
 }

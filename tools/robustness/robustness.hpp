@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "eval/evaluate.hpp"
+#include "io/trajectory.hpp"
 #include "system/point_frontend.hpp"
 #include "system/vo_config.hpp"
 #include "tools/synth/illumination.hpp"
@@ -48,8 +50,21 @@ struct ScenarioResult {
   double ate_keyframes_m = 0;  // refined keyframes
   double frames_per_second = 0;
   double point_inliers_median = 0, line_inliers_median = 0;  // per tracked frame: what the poses stood on
-  std::string error;                                         // the run or its evaluation failed: what happened
+  // With ablate_lines: the ATE over the frames both the run with lines and the one without estimated, and their
+  // count (a run that starts a map earlier or loses fewer frames is otherwise measured over other frames).
+  double ate_paired_m = 0;
+  std::size_t frames_paired = 0;
+  std::string error;  // the run or its evaluation failed: what happened
 };
+
+// Two runs of one sequence over the timestamps both estimated, each aligned to the ground truth on those alone.
+struct PairedAte {
+  double first_m = 0, second_m = 0;
+  std::size_t frames = 0;
+};
+// Throws std::runtime_error when fewer than 3 common timestamps associate with the ground truth.
+PairedAte paired_ate(const io::Trajectory& first, const io::Trajectory& second, const io::Trajectory& groundtruth,
+                     const eval::EvalOptions& options);
 
 struct BenchmarkOptions {
   std::filesystem::path out_dir;
@@ -70,7 +85,8 @@ std::vector<ScenarioResult> run_benchmark(const std::filesystem::path& dataset, 
                                           system::PointFrontend& stereo_frontend, const BenchmarkOptions& options);
 
 // The Markdown table: per scenario ATE, ratio to the clean run, ATE of the tracked frames and of the gap, untracked
-// frames, segments at the end, relocalisations (and with ablate_lines, the same without lines and the lines' gain).
+// frames, segments at the end, relocalisations (and with ablate_lines, the ATE without lines and the lines' gain,
+// measured over the frames both runs estimated).
 std::string format_table(const std::vector<ScenarioResult>& results);
 nlohmann::json to_json(const std::vector<ScenarioResult>& results);
 
