@@ -8,6 +8,7 @@
 
 #include "common/test_support.hpp"
 #include "system/vo_harness.hpp"
+#include "tools/robustness/robustness.hpp"
 #include "tools/synth/config.hpp"
 #include "tools/synth/sequence_writer.hpp"
 
@@ -201,6 +202,38 @@ TEST(VoSynth, MonoPointsMapKeypointsBeyondTheStereoRange) {
   EXPECT_GT(points_after, 1.1 * points_before);
   EXPECT_GE(with_mono.result.frames_tracked, stereo_only.result.frames_tracked);
   EXPECT_LT(with_mono.evaluation.ate.translation_m.rmse, 0.15);
+}
+
+// The robustness benchmark's line ablation on rendered images: both runs of a scenario are compared over the
+// frames both estimated, and a run that never starts a map is reported failed (not as an ATE of 0).
+TEST(VoSynth, RobustnessAblationPairsTheRunsAndFailsARunThatTracksNothing) {
+  const auto synth = small_preset(20);
+  const auto dir = write_sequence(synth, "vo_synth_robustness");
+  const robustness::Scenario clean{.name = "clean", .description = "as rendered"};
+  test::OpencvFrontend feature_frontend, stereo_frontend;
+  VoConfig config = small_preset_config();
+  const auto tracked = robustness::run_benchmark(dir / "seq", config, {clean}, feature_frontend, stereo_frontend,
+                                                 {.out_dir = dir / "tracked", .ablate_lines = true});
+  ASSERT_EQ(tracked.size(), 2u);
+  for (const auto& r : tracked) {
+    EXPECT_TRUE(r.error.empty()) << r.error;
+    EXPECT_EQ(r.frames_untracked, 0u);
+    // Both tracked every frame, so the paired ATE is each run's own (to the 1e-9 m the trajectory files keep).
+    EXPECT_EQ(r.frames_paired, static_cast<std::size_t>(synth.num_frames));
+    EXPECT_GT(r.ate_paired_m, 0.0);
+    EXPECT_NEAR(r.ate_paired_m, r.ate_m, 1e-6);
+  }
+
+  config.tracking.init_min_keypoints = 1000000;  // no frame can start a map
+  const auto untracked = robustness::run_benchmark(dir / "seq", config, {clean}, feature_frontend, stereo_frontend,
+                                                   {.out_dir = dir / "untracked", .ablate_lines = true});
+  ASSERT_EQ(untracked.size(), 2u);
+  for (const auto& r : untracked) {
+    EXPECT_EQ(r.error, "no frame tracked");
+    EXPECT_EQ(r.frames_untracked, static_cast<std::size_t>(synth.num_frames));
+    EXPECT_EQ(r.frames_paired, 0u);
+  }
+  EXPECT_NE(robustness::format_table(untracked).find("| clean | failed: no frame tracked |"), std::string::npos);
 }
 
 }  // namespace

@@ -209,6 +209,8 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const s
             system::run_vo(*opened, run_config, feature_frontend, stereo_frontend, run_options);
         r.frames = run.frames;
         r.frames_untracked = run.frames - run.frames_tracked;
+        // A run that never started a map has no trajectory to measure: failed, not "ATE 0".
+        if (run.frames_tracked == 0) throw std::runtime_error("no frame tracked");
         r.frames_bridged = static_cast<std::size_t>(run.frames_bridged);
         r.segments = run.segments;
         r.relocalisations = run.relocalisations;
