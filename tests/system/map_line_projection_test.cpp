@@ -160,7 +160,8 @@ TEST(MapLineProjection, ConfigKeysAndTheirRanges) {
   EXPECT_TRUE(vo.line_projection.enabled);
   EXPECT_DOUBLE_EQ(vo.line_projection.max_distance, 2.5);
   EXPECT_DOUBLE_EQ(vo.line_projection.min_overlap, 0.25);
-  EXPECT_FALSE(load_vo_config(config("lines: {}\n")).line_projection.enabled);
+  EXPECT_TRUE(load_vo_config(config("lines: {}\n")).line_projection.enabled);  // on by default
+  EXPECT_FALSE(load_vo_config(config("lines: {projection: {enabled: false}}\n")).line_projection.enabled);
   for (const char* bad : {"lines: {projection: {min_overlap: 1.5}}\n", "lines: {projection: {max_distance: -1}}\n",
                           "lines: {projection: {max_distanse: 2}}\n", "lines: {projection: 3}\n"})
     EXPECT_THROW(load_vo_config(config(bad)), std::runtime_error) << bad;

@@ -134,12 +134,13 @@ TEST(VoSynth, TwoSecondsOfDarknessEndOnOneMap) {
   EXPECT_LT(run.evaluation.ate.translation_m.rmse, 0.15);
 }
 
-// Local-map lines by projection (lines.projection, off by default) on rendered images of the low-texture room
+// Local-map lines by projection (lines.projection, on by default) on rendered images of the low-texture room
 // (flat surfaces: the lines are the boxes' and the frames' edges): more line inliers per tracked frame than the
 // matching through points alone, and tracking as complete and accurate.
 TEST(VoSynth, ProjectedMapLinesAddLineInliers) {
   const auto dir = write_sequence(plain_room(40), "vo_synth_projection");
   VoConfig config = small_preset_config();
+  config.line_projection.enabled = false;
   const auto through_points = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "points");
   config.line_projection.enabled = true;
   const auto projected = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "projected");
