@@ -9,6 +9,7 @@
 
 #include "app/command.hpp"
 #include "app/device_options.hpp"
+#include "app/exit_codes.hpp"
 #include "app/vo_frontends.hpp"
 #include "io/dataset.hpp"
 #include "tools/robustness/robustness.hpp"
@@ -59,9 +60,16 @@ int run(const Options& o) {
   fmt::print("\n{} ({} frames at {:.1f} Hz), {}\n\n{}\ntable: {}\nplot:  {}\n", dataset->name(), dataset->size(), rate,
              frontends.description()["device"].get<std::string>(), vkvo::robustness::format_table(results),
              (o.out / "robustness.md").string(), (o.out / "robustness.png").string());
-  for (const auto& r : results)
-    if (!r.error.empty()) return 1;
-  return 0;
+  // A run the events defeated is a result; a run that could not be made or evaluated is not.
+  std::size_t untracked_runs = 0;
+  for (const auto& r : results) {
+    if (r.error == vkvo::robustness::kNoFrameTracked)
+      ++untracked_runs;
+    else if (!r.error.empty())
+      return vkvo::app::kExitBadInput;
+  }
+  if (untracked_runs == results.size()) return vkvo::app::kExitNoResult;
+  return vkvo::app::kExitOk;
 }
 
 vkvo::app::CommandRegistration registration{

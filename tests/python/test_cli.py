@@ -68,6 +68,25 @@ def test_a_run_whose_every_frame_is_skipped_exits_2(cli, sequence, random_packs,
     assert poses_in(out / "trajectory.txt") == []
 
 
+def test_a_benchmark_whose_every_run_tracks_nothing_exits_2(cli, sequence, random_packs, tmp_path):
+    # No frame can start a map: each run is reported failed in the table (not as an ATE of 0), and the benchmark
+    # as a whole produced nothing usable.
+    lines = EUROC_CONFIG.read_text().splitlines()
+    index = next(i for i, line in enumerate(lines) if line.strip().startswith("init_min_keypoints:"))
+    lines[index] = "  init_min_keypoints: 1000000"
+    config = tmp_path / "unreachable.yaml"
+    config.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "out"
+    result = vkvo_cli(cli, "robustness", "--config", config, "--dataset", sequence, "--out", out, "--model",
+                      random_packs / "random_superpoint.vkvopack", "--matcher", "nn", "--scenarios", "clean",
+                      "--ablate-lines")
+    assert result.returncode == 2, result.stderr
+    assert "| clean | failed: no frame tracked |" in (out / "robustness.md").read_text()
+    runs = json.loads((out / "robustness.json").read_text())
+    assert [(run["lines"], run["error"], run["frames_untracked"]) for run in runs] == [
+        (True, "no frame tracked", 4), (False, "no frame tracked", 4)]
+
+
 def test_sigterm_writes_the_outputs_and_exits_143(cli, random_packs, tmp_path):
     sequence = tmp_path / "long"
     subprocess.run([cli, "synth", "--out", str(sequence), "--preset", "small", "--frames", "100"], check=True,

@@ -230,7 +230,7 @@ TEST(VoSynth, RobustnessAblationPairsTheRunsAndFailsARunThatTracksNothing) {
                                                    {.out_dir = dir / "untracked", .ablate_lines = true});
   ASSERT_EQ(untracked.size(), 2u);
   for (const auto& r : untracked) {
-    EXPECT_EQ(r.error, "no frame tracked");
+    EXPECT_EQ(r.error, robustness::kNoFrameTracked);
     EXPECT_EQ(r.frames_untracked, static_cast<std::size_t>(synth.num_frames));
     EXPECT_EQ(r.frames_paired, 0u);
   }

@@ -210,7 +210,7 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const s
         r.frames = run.frames;
         r.frames_untracked = run.frames - run.frames_tracked;
         // A run that never started a map has no trajectory to measure: failed, not "ATE 0".
-        if (run.frames_tracked == 0) throw std::runtime_error("no frame tracked");
+        if (run.frames_tracked == 0) throw std::runtime_error(kNoFrameTracked);
         r.frames_bridged = static_cast<std::size_t>(run.frames_bridged);
         r.segments = run.segments;
         r.relocalisations = run.relocalisations;

@@ -56,6 +56,9 @@ struct ScenarioResult {
   std::size_t frames_paired = 0;
   std::string error;  // the run or its evaluation failed: what happened
 };
+// ScenarioResult::error of a run that never started a map: a measured outcome (the event defeated the VO), not a
+// failure of the benchmark.
+inline constexpr const char* kNoFrameTracked = "no frame tracked";
 
 // Two runs of one sequence over the timestamps both estimated, each aligned to the ground truth on those alone.
 struct PairedAte {
