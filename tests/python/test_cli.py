@@ -36,12 +36,18 @@ def poses_in(trajectory):
     return [line for line in trajectory.read_text().splitlines() if line and not line.startswith("#")]
 
 
-def test_a_config_value_out_of_range_names_file_key_and_line(cli, sequence, random_packs, tmp_path):
+def config_with(key, value, path):
+    """config/euroc.yaml with one (indented) key's value replaced, written to `path`; returns its 0-based line."""
     lines = EUROC_CONFIG.read_text().splitlines()
-    index = next(i for i, line in enumerate(lines) if line.strip().startswith("max_depth:"))
-    lines[index] = "  max_depth: -5"
+    index = next(i for i, line in enumerate(lines) if line.strip().startswith(f"{key}:"))
+    lines[index] = f"  {key}: {value}"
+    path.write_text("\n".join(lines) + "\n")
+    return index
+
+
+def test_a_config_value_out_of_range_names_file_key_and_line(cli, sequence, random_packs, tmp_path):
     config = tmp_path / "bad.yaml"
-    config.write_text("\n".join(lines) + "\n")
+    index = config_with("max_depth", -5, config)
     result = vkvo_cli(cli, *run_args(sequence, tmp_path / "out", random_packs, config))
     assert result.returncode == 1
     assert f"bad.yaml: stereo.max_depth (line {index + 1}): -5 is outside" in result.stderr
@@ -71,11 +77,8 @@ def test_a_run_whose_every_frame_is_skipped_exits_2(cli, sequence, random_packs,
 def test_a_benchmark_whose_every_run_tracks_nothing_exits_2(cli, sequence, random_packs, tmp_path):
     # No frame can start a map: each run is reported failed in the table (not as an ATE of 0), and the benchmark
     # as a whole produced nothing usable.
-    lines = EUROC_CONFIG.read_text().splitlines()
-    index = next(i for i, line in enumerate(lines) if line.strip().startswith("init_min_keypoints:"))
-    lines[index] = "  init_min_keypoints: 1000000"
     config = tmp_path / "unreachable.yaml"
-    config.write_text("\n".join(lines) + "\n")
+    config_with("init_min_keypoints", 1000000, config)
     out = tmp_path / "out"
     result = vkvo_cli(cli, "robustness", "--config", config, "--dataset", sequence, "--out", out, "--model",
                       random_packs / "random_superpoint.vkvopack", "--matcher", "nn", "--scenarios", "clean",
