@@ -188,7 +188,7 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const s
       spdlog::info("robustness: {}: {}", scenario.name, scenario.description);
       synth::perturb_sequence(dataset, input, scenario.events, {.noise_sigma = scenario.noise_sigma});
     }
-    std::vector<fs::path> trajectories;  // of this scenario's runs that succeeded, with lines first
+    std::vector<io::Trajectory> trajectories;  // of this scenario's runs that succeeded, with lines first
     std::optional<io::GroundTruth> groundtruth;
     const std::size_t first_result = results.size();
     for (const bool lines : options.ablate_lines ? std::vector<bool>{true, false} : std::vector<bool>{true}) {
@@ -224,13 +224,14 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const s
         r.ate_gap_m = rmse_of(run.evaluation, "trajectory_by_state", "bridged_translation_m");
         r.ate_keyframes_m = rmse_of(run.evaluation, "keyframes_refined", "ate_translation_m");
         if (!groundtruth) groundtruth = io::read_dataset_groundtruth(*opened);
+        if (!groundtruth) throw std::runtime_error("no ground truth found with the sequence");
+        io::Trajectory trajectory = io::read_tum(run.trajectory);
         if (lines) {
-          const auto evaluation =
-              eval::evaluate(io::read_tum(run.trajectory), groundtruth->poses, eval_options_for(*groundtruth));
+          const auto evaluation = eval::evaluate(trajectory, groundtruth->poses, eval_options_for(*groundtruth));
           plots.push_back({fmt::format("{}: ATE {:.3f} m, {} seg.", scenario.name, r.ate_m, r.segments),
                            evaluation.aligned_estimate_positions, evaluation.groundtruth_positions});
         }
-        trajectories.push_back(run.trajectory);
+        trajectories.push_back(std::move(trajectory));
       } catch (const std::exception& e) {
         r.error = e.what();
         spdlog::error("robustness: {}{}: {}", scenario.name, lines ? "" : " (no lines)", e.what());
@@ -241,8 +242,8 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const s
     }
     if (trajectories.size() == 2) {
       try {
-        const PairedAte paired = paired_ate(io::read_tum(trajectories[0]), io::read_tum(trajectories[1]),
-                                            groundtruth->poses, eval_options_for(*groundtruth));
+        const PairedAte paired =
+            paired_ate(trajectories[0], trajectories[1], groundtruth->poses, eval_options_for(*groundtruth));
         results[first_result].ate_paired_m = paired.first_m;
         results[first_result + 1].ate_paired_m = paired.second_m;
         results[first_result].frames_paired = results[first_result + 1].frames_paired = paired.frames;
