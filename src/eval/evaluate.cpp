@@ -21,6 +21,12 @@ std::string time_range(const io::Trajectory& trajectory) {
 }
 }  // namespace
 
+EvalOptions eval_options_for(const io::GroundTruth& groundtruth) {
+  EvalOptions options;
+  options.positions_only = !groundtruth.has_orientation;
+  return options;
+}
+
 EvalOptions load_eval_options(const YAML::Node& section) {
   EvalOptions options;
   const auto align = io::param<std::string>(section, "align", to_string(options.alignment));

@@ -28,6 +28,8 @@ struct EvalOptions {
 // Reads an `eval:` config section: align (none|se3|sim3, "se3"), max_dt_s (0.02), rpe_lengths_m ([] = 10..50 %
 // of the path length), rpe_step (1). Wrong types or an unknown alignment throw naming the key.
 EvalOptions load_eval_options(const YAML::Node& section);
+// The default options for measuring against `groundtruth`: positions only when it gives no orientation.
+EvalOptions eval_options_for(const io::GroundTruth& groundtruth);
 
 struct EvaluationResult {
   std::size_t estimate_poses = 0;

@@ -97,8 +97,7 @@ nlohmann::json inlier_statistics(const std::vector<FrameRecord>& frames) {
 nlohmann::json evaluate_outputs(const io::StereoDataset& dataset, const RunResult& result) {
   const auto groundtruth = io::read_dataset_groundtruth(dataset);
   if (!groundtruth) return nullptr;
-  eval::EvalOptions options;
-  options.positions_only = !groundtruth->has_orientation;
+  const eval::EvalOptions options = eval::eval_options_for(*groundtruth);
   nlohmann::json out = {{"groundtruth", dataset.groundtruth_path()->string()}};
   const auto attempt = [&](const char* key, const auto& evaluate) {
     try {

@@ -45,6 +45,14 @@ std::vector<Isometry3d> straight_line(int n) {
 
 }  // namespace
 
+// Ground truth without orientations (positions-only files) is measured on positions alone.
+TEST(EvalOptions, PositionsOnlyWhereTheGroundTruthHasNoOrientation) {
+  vkvo::io::GroundTruth with_rotations, positions;
+  positions.has_orientation = false;
+  EXPECT_FALSE(vkvo::eval::eval_options_for(with_rotations).positions_only);
+  EXPECT_TRUE(vkvo::eval::eval_options_for(positions).positions_only);
+}
+
 TEST(Stats, HandComputed) {
   const auto stats = eval::compute_stats({1, 2, 3, 4});
   EXPECT_EQ(stats.count, 4u);

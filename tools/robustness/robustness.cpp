@@ -38,12 +38,6 @@ double rmse_of(const nlohmann::json& evaluation, const char* part, const char* s
   return s["count"].get<std::size_t>() > 0 ? s["rmse"].get<double>() : 0.0;
 }
 
-eval::EvalOptions eval_options_for(const io::GroundTruth& groundtruth) {
-  eval::EvalOptions options;
-  options.positions_only = !groundtruth.has_orientation;
-  return options;
-}
-
 // The poses of `trajectory` whose timestamps `other` has too (both sorted by time, as the runs write them).
 io::Trajectory at_common_times(const io::Trajectory& trajectory, const io::Trajectory& other) {
   constexpr double kSameTime = 1e-6;  // s: both runs read the timestamps from the same files
@@ -227,7 +221,7 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const s
         if (!groundtruth) throw std::runtime_error("no ground truth found with the sequence");
         io::Trajectory trajectory = io::read_tum(run.trajectory);
         if (lines) {
-          const auto evaluation = eval::evaluate(trajectory, groundtruth->poses, eval_options_for(*groundtruth));
+          const auto evaluation = eval::evaluate(trajectory, groundtruth->poses, eval::eval_options_for(*groundtruth));
           plots.push_back({fmt::format("{}: ATE {:.3f} m, {} seg.", scenario.name, r.ate_m, r.segments),
                            evaluation.aligned_estimate_positions, evaluation.groundtruth_positions});
         }
@@ -243,7 +237,7 @@ std::vector<ScenarioResult> run_benchmark(const fs::path& given_dataset, const s
     if (trajectories.size() == 2) {
       try {
         const PairedAte paired =
-            paired_ate(trajectories[0], trajectories[1], groundtruth->poses, eval_options_for(*groundtruth));
+            paired_ate(trajectories[0], trajectories[1], groundtruth->poses, eval::eval_options_for(*groundtruth));
         results[first_result].ate_paired_m = paired.first_m;
         results[first_result + 1].ate_paired_m = paired.second_m;
         results[first_result].frames_paired = results[first_result + 1].frames_paired = paired.frames;
