@@ -544,6 +544,21 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
   return result;
 }
 
+bool Tracker::can_start_segment(const FrameInput& input, int stereo_points, int stereo_lines) const {
+  const bool count_lines = config_.tracking.init_counts_lines && config_.tracking.use_lines;
+  const int lines = count_lines ? static_cast<int>(input.lines.size()) : 0;
+  const int keypoints = static_cast<int>(input.points.size());
+  const int stereo = stereo_points + (lines > 0 ? stereo_lines : 0);
+  if (keypoints + lines >= config_.tracking.init_min_keypoints && stereo >= config_.tracking.init_min_stereo)
+    return true;
+  spdlog::debug(
+      "frame {}: cannot start a map segment ({} keypoints, {} stereo points, {} lines, {} stereo lines; "
+      "need {} / {})",
+      input.index, keypoints, stereo_points, lines, lines > 0 ? stereo_lines : 0, config_.tracking.init_min_keypoints,
+      config_.tracking.init_min_stereo);
+  return false;
+}
+
 bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_segment, TimingReport& timing) {
   // The right image's detection, stereo matching and right-image lines are timed under PE, PM and LE, so BA is
   // the keyframe's own work (triangulation, map update, local BA) as in the paper's table.
@@ -555,23 +570,11 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
   const StereoPoints stereo_points =
       triangulate_stereo_points(stereo_, input.points, right, stereo_matches, config_.triangulation);
   const bool use_lines = config_.tracking.use_lines && !input.lines.empty();
-  // Whether a new segment has enough to start from: keypoints and stereo points, and with init_counts_lines the
-  // detected and the triangulated lines (`stereo_lines`: at most all of the detected ones before triangulation).
-  const auto enough_for_a_map = [&](int stereo_lines) {
-    const int lines = config_.tracking.init_counts_lines && use_lines ? static_cast<int>(input.lines.size()) : 0;
-    const int stereo_line_count = lines > 0 ? stereo_lines : 0;
-    if (static_cast<int>(input.points.size()) + lines >= config_.tracking.init_min_keypoints &&
-        stereo_points.count + stereo_line_count >= config_.tracking.init_min_stereo)
-      return true;
-    spdlog::debug(
-        "frame {}: cannot start a map segment ({} keypoints, {} stereo matches, {} pass the stereo gates, {} lines; "
-        "need {} / {})",
-        input.index, input.points.size(), stereo_matches.count(), stereo_points.count, lines,
-        config_.tracking.init_min_keypoints, config_.tracking.init_min_stereo);
+  // Before the lines' triangulation, every detected line counts as a possible stereo line.
+  if (new_segment && !can_start_segment(input, stereo_points.count, static_cast<int>(input.lines.size()))) {
     timing.add(Module::BA, watch.lap());
     return false;
-  };
-  if (new_segment && !enough_for_a_map(static_cast<int>(input.lines.size()))) return false;
+  }
   map::Frame& frame = tracked.frame;
 
   StereoLines stereo_lines;
@@ -594,8 +597,8 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
         {input.points.keypoints, gated, known_positions}, config_.lines.matching, config_.triangulation);
   }
   if (new_segment && config_.tracking.init_counts_lines &&
-      !enough_for_a_map(stereo_lines.planes + stereo_lines.points)) {
-    timing.add(Module::BA, keyframe_ms);  // the stereo points' triangulation, timed before the lines
+      !can_start_segment(input, stereo_points.count, stereo_lines.planes + stereo_lines.points)) {
+    timing.add(Module::BA, keyframe_ms + watch.lap());  // both triangulations (the lines' detection is LE)
     return false;
   }
   frame.right_x = stereo_points.right_x;

@@ -144,6 +144,9 @@ class Tracker {
   // Right-image features + stereo triangulation, then the keyframe with its new landmarks and a local BA.
   // With `new_segment`, refuses frames with too few keypoints/stereo matches (returns false).
   bool add_keyframe(const FrameInput& input, Tracked& tracked, bool new_segment, TimingReport& timing);
+  // Whether a frame has enough to start a map segment from: keypoints and stereo points, and with
+  // init_counts_lines its detected lines and `stereo_lines` of them triangulated.
+  bool can_start_segment(const FrameInput& input, int stereo_points, int stereo_lines) const;
   // The constant-velocity prediction `steps` frame intervals after the last frame.
   Eigen::Isometry3d predicted_pose(double steps = 1.0) const;
   void publish_reference(map::Id keyframe, std::shared_ptr<const features::PointFeatures> features);
