@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -83,6 +84,25 @@ TEST(SequenceWriter, WritesTheAslLayout) {
   EXPECT_DOUBLE_EQ(again.rig.baseline, 0.2);
   ASSERT_EQ(again.events.size(), 1u);
   EXPECT_EQ(again.events[0].first_frame, 2);
+
+  // scene_boxes.csv: the room, then every box of the scene the sequence was rendered from, each bound read back
+  // to the same float.
+  const Scene scene = generate_indoor_scene(config.scene, config.seed);
+  const auto rows = lines_of(dir / "scene_boxes.csv");
+  ASSERT_EQ(rows.size(), 2 + scene.boxes.size());  // header, room, boxes
+  EXPECT_EQ(rows[0].rfind("# kind,min_x,min_y,min_z,max_x,max_y,max_z", 0), 0u);
+  const auto expect_row = [](const std::string& row, const std::string& kind, const Eigen::AlignedBox3f& box) {
+    std::istringstream fields(row);
+    std::string field;
+    std::getline(fields, field, ',');
+    EXPECT_EQ(field, kind);
+    for (int i = 0; i < 6; ++i) {
+      ASSERT_TRUE(std::getline(fields, field, ',')) << row;
+      EXPECT_EQ(std::stof(field), i < 3 ? box.min()[i] : box.max()[i - 3]) << row;
+    }
+  };
+  expect_row(rows[1], "room", scene.room);
+  for (std::size_t b = 0; b < scene.boxes.size(); ++b) expect_row(rows[2 + b], "box", scene.boxes[b].bounds);
 }
 
 TEST(SynthConfig, YamlOverridesAndTypeErrors) {

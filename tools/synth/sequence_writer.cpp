@@ -57,6 +57,20 @@ void write_info(const SynthConfig& c, const fs::path& path) {
   if (c.events.empty()) f << "  []\n";
 }
 
+// The scene's geometry (every surface is a face of one of these axis-aligned boxes), so a map can be checked
+// against it: a landmark's distance to the nearest face is its error.
+void write_scene_boxes(const Scene& scene, const fs::path& path) {
+  std::ofstream f = open_for_writing(path);
+  f << "# kind,min_x,min_y,min_z,max_x,max_y,max_z (metres, world frame; the room is seen from inside)\n";
+  const auto row = [&f](const char* kind, const Eigen::AlignedBox3f& b) {
+    f << fmt::format("{},{},{},{},{},{},{}\n", kind, b.min().x(), b.min().y(), b.min().z(), b.max().x(), b.max().y(),
+                     b.max().z());
+  };
+  row("room", scene.room);
+  for (const Box& box : scene.boxes) row("box", box.bounds);
+  if (!f.flush()) throw std::runtime_error(fmt::format("synth: cannot write {}", path.string()));
+}
+
 }  // namespace
 
 std::string euroc_sensor_yaml(const io::CameraCalibration& cam, double rate_hz, const std::string& comment) {
@@ -120,6 +134,7 @@ void write_asl_sequence(const StereoRenderer& renderer, const fs::path& out_dir,
   std::ofstream tum = open_for_writing(out_dir / "groundtruth_tum.txt");
   tum << "# timestamp tx ty tz qx qy qz qw (cam0 in world; vkvo synth)\n";
   write_info(config, out_dir / "synth.yaml");
+  write_scene_boxes(renderer.scene(), out_dir / "scene_boxes.csv");
 
   for (int k = 0; k < renderer.frame_count(); ++k) {
     const StereoFrame frame = renderer.render(k);

@@ -5,6 +5,7 @@
 //   DIR/mav0/state_groundtruth_estimate0/data.csv  EuRoC ground truth of the body (= cam0) pose and velocity
 //   DIR/groundtruth_tum.txt                        TUM "t x y z qx qy qz qw" of cam0 (seconds)
 //   DIR/synth.yaml                                 the parameters it was made with (seed, rig, events)
+//   DIR/scene_boxes.csv                            the scene's room and boxes (every surface is one of their faces)
 #include <filesystem>
 #include <functional>
 
