@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <fstream>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
@@ -53,6 +56,30 @@ eval::EvaluationResult evaluate_tracked_frames(const VoRun& run) {
   for (std::size_t i = 0; i < run.trajectory.size(); ++i)
     if (std::find(untracked.begin(), untracked.end(), i) == untracked.end()) tracked.push_back(run.trajectory[i]);
   return eval::evaluate(tracked, run.groundtruth);
+}
+
+io::MapGeometry read_map_ply(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error("read_map_ply: cannot open " + file.string());
+  std::size_t vertices = 0;
+  for (std::string line; std::getline(in, line) && line != "end_header";)
+    if (line.rfind("element vertex ", 0) == 0) vertices = std::stoul(line.substr(15));
+  io::MapGeometry map;
+  std::vector<Eigen::Vector3d> line_ends;
+  for (std::size_t v = 0; v < vertices; ++v) {
+    Eigen::Vector3d p;
+    int red = 0, green = 0, blue = 0;
+    if (!(in >> p.x() >> p.y() >> p.z() >> red >> green >> blue))
+      throw std::runtime_error("read_map_ply: truncated vertex list in " + file.string());
+    if (red == 200)
+      map.points.push_back(p);  // light grey: map points
+    else if (red == 255)
+      line_ends.push_back(p);  // red: line endpoints, in pairs
+    else
+      map.trajectory.push_back(p);  // green: camera path
+  }
+  for (std::size_t e = 0; e + 1 < line_ends.size(); e += 2) map.lines.emplace_back(line_ends[e], line_ends[e + 1]);
+  return map;
 }
 
 void expect_every_frame_tracked(const VoRun& run, std::size_t frames) {

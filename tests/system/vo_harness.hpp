@@ -6,6 +6,7 @@
 
 #include "eval/evaluate.hpp"
 #include "io/dataset.hpp"
+#include "io/map_ply.hpp"
 #include "system/opencv_frontend.hpp"
 #include "system/pipeline.hpp"
 #include "system/vo_config.hpp"
@@ -30,6 +31,9 @@ VoRun run_vo_with_opencv_frontend(const std::filesystem::path& dataset_dir, cons
 // The evaluation of the poses the tracker optimised only: the predicted poses of untracked frames (which no
 // image supports, e.g. black frames) are left out. Needs a run without skipped frames.
 eval::EvaluationResult evaluate_tracked_frames(const VoRun& run);
+
+// The map a run wrote (map.ply, io::write_map_ply's layout): its points and line segments, told apart by colour.
+io::MapGeometry read_map_ply(const std::filesystem::path& file);
 
 // Every frame processed, tracked and written, none lost, one map segment.
 void expect_every_frame_tracked(const VoRun& run, std::size_t frames);

@@ -1,6 +1,7 @@
 #include "tools/synth/scene.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <opencv2/imgproc.hpp>
 
@@ -207,5 +208,20 @@ class RoomBuilder {
 }  // namespace
 
 Scene generate_indoor_scene(const SceneParams& params, uint64_t seed) { return RoomBuilder(params, seed).build(); }
+
+namespace {
+
+float distance_to_boundary(const Eigen::AlignedBox3f& box, const Eigen::Vector3f& p) {
+  if (box.contains(p)) return std::min((p - box.min()).minCoeff(), (box.max() - p).minCoeff());
+  return std::sqrt(box.squaredExteriorDistance(p));
+}
+
+}  // namespace
+
+float distance_to_surfaces(const Scene& scene, const Eigen::Vector3f& p) {
+  float nearest = distance_to_boundary(scene.room, p);
+  for (const Box& box : scene.boxes) nearest = std::min(nearest, distance_to_boundary(box.bounds, p));
+  return nearest;
+}
 
 }  // namespace vkvo::synth

@@ -88,6 +88,10 @@ struct SceneParams {
   bool plain_surfaces = false;
 };
 
+// Distance from `p` to the nearest surface of the scene: every surface is a face of the room or of a box, so it is
+// the least distance to one of their boundaries (from inside or outside). A map's landmarks should lie on them.
+float distance_to_surfaces(const Scene& scene, const Eigen::Vector3f& p);
+
 // A seeded procedural room: plaster walls with posters, a door with a frame, a window with a frame, plank floor,
 // tiled ceiling, cardboard boxes, two ceiling lights (with plain_surfaces: flat walls, floor, ceiling and boxes). The
 // same params and seed give the same scene.
