@@ -77,6 +77,31 @@ TEST(LineDetector, FindsTheEdgesOfAQuadrilateralWithFld) {
   EXPECT_EQ(detected.size(), edges.size());
 }
 
+// The quadrilateral at 5 % of the light: its edges step by 6.5 grey levels, below the Canny thresholds (50 on the
+// Sobel response, 4 x the step). Stretched to the minimum contrast it gives the same four edges; without the
+// stretch, none. A well-exposed image (130 levels from 1st to 99th percentile) is left as it is.
+TEST(LineDetector, ADimImageIsStretchedToKeepItsEdges) {
+  const cv::Mat bright = render_quad(kQuad, 1);
+  cv::Mat dim;
+  bright.convertTo(dim, CV_8U, 0.05);
+  const auto edges = quad_edges(kQuad);
+  const LineDetector detector{LineDetectorParams{}};
+  const auto detected = detector.detect(dim);
+  for (const auto& e : edges) EXPECT_TRUE(found(detected, e)) << "edge " << e.p0.transpose() << " missing";
+  expect_all_on_truth(detected, edges);
+  EXPECT_EQ(detected.size(), edges.size());
+
+  LineDetectorParams unstretched;
+  unstretched.min_contrast = 0.0f;
+  EXPECT_TRUE(LineDetector(unstretched).detect(dim).empty());
+  const auto as_is = LineDetector(unstretched).detect(bright), stretched = detector.detect(bright);
+  ASSERT_EQ(as_is.size(), stretched.size());
+  for (std::size_t i = 0; i < as_is.size(); ++i) {
+    EXPECT_EQ(as_is[i].p0, stretched[i].p0);
+    EXPECT_EQ(as_is[i].p1, stretched[i].p1);
+  }
+}
+
 TEST(LineDetector, FindsTheEdgesOfAQuadrilateralWithLsdAtFullResolution) {
   LineDetectorParams params;
   params.method = LineDetectorMethod::kLsd;
@@ -184,6 +209,7 @@ detector:
   method: lsd
   scale: 1.0
   min_length: 40
+  min_contrast: 64
   fld: {length_threshold: 10, canny_aperture: 5}
   lsd: {refine: none}
   merge_stages:
@@ -195,6 +221,7 @@ matching: {score_threshold: 0.7, shared_threshold: 2}
   EXPECT_EQ(p.detector.method, LineDetectorMethod::kLsd);
   EXPECT_FLOAT_EQ(p.detector.scale, 1.0f);
   EXPECT_FLOAT_EQ(p.detector.min_length, 40.0f);
+  EXPECT_FLOAT_EQ(p.detector.min_contrast, 64.0f);
   EXPECT_EQ(p.detector.fld.length_threshold, 10);
   EXPECT_EQ(p.detector.fld.canny_aperture, 5);
   EXPECT_FLOAT_EQ(p.detector.fld.distance_threshold, 1.414f);  // untouched default
@@ -222,6 +249,7 @@ matching: {score_threshold: 0.7, shared_threshold: 2}
   };
   EXPECT_NE(message_of("detector: {scale: fast}").find("'scale'"), std::string::npos);
   EXPECT_NE(message_of("detector: {scale: 2.0}").find("detector.scale"), std::string::npos);
+  EXPECT_NE(message_of("detector: {min_contrast: 300}").find("detector.min_contrast"), std::string::npos);
   EXPECT_NE(message_of("detector: {method: hough}").find("detector.method"), std::string::npos);
   EXPECT_NE(message_of("matching: {shared_threshold: [1]}").find("'shared_threshold'"), std::string::npos);
   EXPECT_NE(message_of("detector: {merge_stages: [{max_angle: x}]}").find("'max_angle'"), std::string::npos);
@@ -251,6 +279,7 @@ TEST(LineParams, ExampleConfigFileStatesTheDefaults) {
     EXPECT_FLOAT_EQ(l.min_length_after, d.min_length_after);
   }
   EXPECT_FLOAT_EQ(loaded.detector.min_length, defaults.detector.min_length);
+  EXPECT_FLOAT_EQ(loaded.detector.min_contrast, defaults.detector.min_contrast);
   EXPECT_FLOAT_EQ(loaded.association.max_distance, defaults.association.max_distance);
   EXPECT_FLOAT_EQ(loaded.association.extent_margin, defaults.association.extent_margin);
   EXPECT_EQ(loaded.association.require_both_extents, defaults.association.require_both_extents);

@@ -1,7 +1,9 @@
 #include "features/lines/line_detector.hpp"
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
+#include <utility>
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc/fast_line_detector.hpp>
@@ -35,6 +37,32 @@ cv::Mat to_gray8(const cv::Mat& image) {
   return gray;
 }
 
+// The grey levels at the `fraction` and 1 - `fraction` quantiles of an 8-bit image.
+std::pair<int, int> percentile_range(const cv::Mat& gray, double fraction) {
+  std::array<int, 256> histogram{};
+  for (int y = 0; y < gray.rows; ++y) {
+    const uchar* row = gray.ptr<uchar>(y);
+    for (int x = 0; x < gray.cols; ++x) ++histogram[row[x]];
+  }
+  const double tail = fraction * static_cast<double>(gray.total());
+  int lo = 0, hi = 255;
+  double below = histogram[0], above = histogram[255];  // pixels at or below lo, at or above hi
+  while (lo < 255 && below <= tail) below += histogram[++lo];
+  while (hi > 0 && above <= tail) above += histogram[--hi];
+  return {lo, std::max(lo, hi)};
+}
+
+// A linear stretch of `gray` so that its 1st-99th percentile range spans `min_contrast` levels, when it spans less.
+cv::Mat with_min_contrast(const cv::Mat& gray, float min_contrast) {
+  const auto [lo, hi] = percentile_range(gray, 0.01);
+  const int range = std::max(hi - lo, 1);
+  if (min_contrast <= 0.0f || range >= min_contrast) return gray;
+  const double gain = min_contrast / range;
+  cv::Mat stretched;
+  gray.convertTo(stretched, CV_8U, gain, -gain * lo);
+  return stretched;
+}
+
 }  // namespace
 
 LineDetector::LineDetector(LineDetectorParams params) : params_(std::move(params)) {
@@ -50,6 +78,8 @@ std::vector<LineSegment> LineDetector::detect_raw(const cv::Mat& image) const {
   const double sy = params_.scale == 1.0f ? 1.0 : std::max(1, cvRound(gray.rows * params_.scale)) / double(gray.rows);
   if (params_.scale != 1.0f)
     cv::resize(gray, small, cv::Size(cvRound(gray.cols * sx), cvRound(gray.rows * sy)), 0, 0, cv::INTER_AREA);
+
+  small = with_min_contrast(small, params_.min_contrast);
 
   std::vector<cv::Vec4f> raw;
   if (params_.method == LineDetectorMethod::kFastLineDetector) {

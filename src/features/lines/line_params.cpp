@@ -49,6 +49,9 @@ LineDetectorParams load_line_detector_params(const YAML::Node& section) {
   if (!(params.scale > 0.0f && params.scale <= 1.0f))
     throw std::runtime_error("config key 'detector.scale': must lie in (0, 1]");
   io::read_param(section, "min_length", params.min_length);
+  io::read_param(section, "min_contrast", params.min_contrast);
+  if (!(params.min_contrast >= 0.0f && params.min_contrast <= 255.0f))
+    throw std::runtime_error("config key 'detector.min_contrast': must lie in [0, 255]");
 
   if (const YAML::Node fld = section["fld"]) {
     io::require_map(fld, ctx + "fld");

@@ -47,6 +47,10 @@ struct LineDetectorParams {
   // Reference code: merge (0.05 rad, 5 px, 15 px) then drop < 30 px; merge (0.03 rad, 3 px, 50 px).
   std::vector<MergeStage> merge_stages = {{{0.05f, 5.0f, 15.0f}, 30.0f}, {{0.03f, 3.0f, 50.0f}, 0.0f}};
   float min_length = 60.0f;  // final length filter [px, full resolution]
+  // The edge thresholds above hold for a well-exposed image; one whose intensities (1st to 99th percentile) span
+  // less than this many grey levels is stretched linearly to span them first, so that a dim or flat image keeps
+  // its edges. 0: off.
+  float min_contrast = 128.0f;
 };
 
 // Point-to-line association, paper eq. 1.
