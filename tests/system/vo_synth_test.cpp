@@ -2,8 +2,6 @@
 // the full threaded VO (system::run_vo) with the OpenCV test frontend -> ATE against the rendered ground truth.
 // This is the test that the tracker, the stereo initialisation, keyframes, BA and recovery work on real pixels;
 // the oracle tests (tracker_test, pipeline_test) only see exact projections.
-#include <algorithm>
-#include <limits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -11,6 +9,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "common/test_support.hpp"
+#include "eval/metrics.hpp"
 #include "system/vo_harness.hpp"
 #include "tools/robustness/robustness.hpp"
 #include "tools/synth/config.hpp"
@@ -45,13 +44,6 @@ fs::path write_sequence(const synth::SynthConfig& synth, const char* name) {
   return dir;
 }
 
-double median(std::vector<double> values) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
 struct MapSurfaceError {
   double points_median_m = 0, lines_median_m = 0;
 };
@@ -72,7 +64,7 @@ MapSurfaceError map_surface_error(const io::MapGeometry& map, const eval::Simila
     for (int k = 0; k <= 10; ++k) sum += distance(a + (b - a) * (k / 10.0));
     lines.push_back(sum / 11.0);
   }
-  return {median(points), median(lines)};
+  return {eval::compute_stats(points).median, eval::compute_stats(lines).median};
 }
 
 TEST(VoSynth, TracksTheSmallPresetWithoutLoss) {
