@@ -54,9 +54,10 @@ std::pair<int, int> percentile_range(const cv::Mat& gray, double fraction) {
 
 // A linear stretch of `gray` so that its 1st-99th percentile range spans `min_contrast` levels, when it spans less.
 cv::Mat with_min_contrast(const cv::Mat& gray, float min_contrast) {
+  if (min_contrast <= 0.0f) return gray;
   const auto [lo, hi] = percentile_range(gray, 0.01);
   const int range = std::max(hi - lo, 1);
-  if (min_contrast <= 0.0f || range >= min_contrast) return gray;
+  if (range >= min_contrast) return gray;
   const double gain = min_contrast / range;
   cv::Mat stretched;
   gray.convertTo(stretched, CV_8U, gain, -gain * lo);
