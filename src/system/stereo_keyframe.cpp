@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "features/lines/line_matching.hpp"
+#include "features/lines/stereo_line_matching.hpp"
 
 namespace vkvo::system {
 
@@ -77,18 +78,30 @@ std::optional<geometry::PlueckerLine> line_through_points(const geometry::Stereo
 
 }  // namespace
 
+std::vector<int> match_stereo_lines(const geometry::StereoCamera& stereo, const AssociatedLines& left,
+                                    const AssociatedLines& right, const StereoImages& images,
+                                    const std::vector<int>& right_matches, const features::LinePipelineParams& params,
+                                    const geometry::TriangulationParams& gates) {
+  std::vector<int> partner = features::match_lines(left.association, right.association, right_matches, params.matching);
+  if (params.stereo_matching.by_appearance) {
+    const double focal_baseline = stereo.camera.fx * stereo.baseline;
+    const features::DisparityRange disparity{focal_baseline / gates.max_depth, focal_baseline / gates.min_depth};
+    features::add_stereo_partners_by_appearance({images.left, left.segments}, {images.right, right.segments}, disparity,
+                                                params.stereo_matching, partner);
+  }
+  return partner;
+}
+
 StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo, const AssociatedLines& left,
                                      const AssociatedLines& right, const LeftKeypoints& keypoints,
-                                     const features::LineMatchParams& match_params,
+                                     const std::vector<int>& right_partner,
                                      const geometry::TriangulationParams& params) {
   const std::size_t line_count = left.segments.size();
   StereoLines out;
   out.right.assign(line_count, std::nullopt);
   out.lines.assign(line_count, std::nullopt);
-  const std::vector<int> partner =
-      features::match_lines(left.association, right.association, keypoints.right_matches, match_params);
   for (std::size_t l = 0; l < line_count; ++l) {
-    const int r = l < partner.size() ? partner[l] : -1;
+    const int r = l < right_partner.size() ? right_partner[l] : -1;
     const std::optional<geometry::Segment2d> right_segment =
         r >= 0 ? std::optional(to_segment(right.segments[static_cast<std::size_t>(r)])) : std::nullopt;
     if (params.line_fit_min_points > 0) {

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 
 #include "features/lines/line_params.hpp"
 #include "features/lines/line_segment.hpp"
@@ -46,19 +47,33 @@ struct AssociatedLines {
   const features::PointLineAssociation& association;
 };
 
+// The rectified 8-bit grey pair.
+struct StereoImages {
+  const cv::Mat& left;
+  const cv::Mat& right;
+};
+
 // What line triangulation needs to know of the left image's keypoints, per keypoint.
 struct LeftKeypoints {
   const std::vector<Eigen::Vector2f>& pixels;
-  const std::vector<int>& right_matches;  // index of its right keypoint (a match that passed the stereo gates), or -1
   const std::vector<std::optional<Eigen::Vector3d>>& known_positions;  // left camera frame (known_points_in_camera)
 };
 
-// Matches left and right lines through the stereo point matches (paper eq. 2) and triangulates each left line:
-// from the two back-projected planes when it has a right partner, else (or when the planes are degenerate) from
-// two of its keypoints with known positions (the two nearest the segment, as the paper prescribes).
+// Per left line, its right line or -1: through the stereo point matches (paper eq. 2; `right_matches`: per left
+// keypoint the index of its right keypoint, a match that passed the stereo gates, or -1), then, with
+// params.stereo_matching.by_appearance, the remaining lines by the correlation of the image strips along them
+// within the depth gates' disparities (features::add_stereo_partners_by_appearance).
+std::vector<int> match_stereo_lines(const geometry::StereoCamera& stereo, const AssociatedLines& left,
+                                    const AssociatedLines& right, const StereoImages& images,
+                                    const std::vector<int>& right_matches, const features::LinePipelineParams& params,
+                                    const geometry::TriangulationParams& gates);
+
+// Triangulates each left line: from the two back-projected planes when it has a right partner (`right_partner`,
+// from match_stereo_lines), else (or when the planes are degenerate) from two of its keypoints with known positions
+// (the two nearest the segment, as the paper prescribes).
 StereoLines triangulate_stereo_lines(const geometry::StereoCamera& stereo, const AssociatedLines& left,
                                      const AssociatedLines& right, const LeftKeypoints& keypoints,
-                                     const features::LineMatchParams& match_params,
+                                     const std::vector<int>& right_partner,
                                      const geometry::TriangulationParams& params);
 
 geometry::Segment2d to_segment(const features::LineSegment& line);

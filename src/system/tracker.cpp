@@ -592,9 +592,11 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     for (std::size_t i = 0; i < tracked_world.size(); ++i)
       if (const map::MapPoint* p = map_.point(frame.point_ids[i]); usable(p)) tracked_world[i] = p->position;
     const auto known_positions = known_points_in_camera(stereo_points, tracked_world, frame.T_world_camera);
-    stereo_lines = triangulate_stereo_lines(
-        stereo_, {input.lines, tracked.association}, {right_lines, right_association},
-        {input.points.keypoints, gated, known_positions}, config_.lines.matching, config_.triangulation);
+    const AssociatedLines left_side{input.lines, tracked.association}, right_side{right_lines, right_association};
+    const std::vector<int> partner = match_stereo_lines(stereo_, left_side, right_side, {input.left, input.right},
+                                                        gated, config_.lines, config_.triangulation);
+    stereo_lines = triangulate_stereo_lines(stereo_, left_side, right_side, {input.points.keypoints, known_positions},
+                                            partner, config_.triangulation);
   }
   if (new_segment && config_.tracking.init_counts_lines &&
       !can_start_segment(input, stereo_points.count, stereo_lines.planes + stereo_lines.points)) {

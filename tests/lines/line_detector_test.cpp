@@ -216,6 +216,7 @@ detector:
     - {max_angle: 0.02, max_midpoint_distance: 2, max_endpoint_gap: 30, min_length_after: 12}
 association: {max_distance: 2.5, require_both_extents: false}
 matching: {score_threshold: 0.7, shared_threshold: 2}
+stereo_matching: {by_appearance: false, min_rows: 20, min_row_overlap: 0.7, min_zncc: 0.9, min_margin: 0.2, half_width: 4}
 )");
   const LinePipelineParams p = load_line_pipeline_params(config);
   EXPECT_EQ(p.detector.method, LineDetectorMethod::kLsd);
@@ -234,6 +235,12 @@ matching: {score_threshold: 0.7, shared_threshold: 2}
   EXPECT_FALSE(p.association.require_both_extents);
   EXPECT_FLOAT_EQ(p.matching.score_threshold, 0.7f);
   EXPECT_EQ(p.matching.shared_threshold, 2);
+  EXPECT_FALSE(p.stereo_matching.by_appearance);
+  EXPECT_FLOAT_EQ(p.stereo_matching.min_rows, 20.0f);
+  EXPECT_FLOAT_EQ(p.stereo_matching.min_row_overlap, 0.7f);
+  EXPECT_FLOAT_EQ(p.stereo_matching.min_zncc, 0.9f);
+  EXPECT_FLOAT_EQ(p.stereo_matching.min_margin, 0.2f);
+  EXPECT_EQ(p.stereo_matching.half_width, 4);
 
   const LinePipelineParams defaults = load_line_pipeline_params(YAML::Node());
   EXPECT_EQ(defaults.detector.merge_stages.size(), 2u);
@@ -254,6 +261,11 @@ matching: {score_threshold: 0.7, shared_threshold: 2}
   EXPECT_NE(message_of("matching: {shared_threshold: [1]}").find("'shared_threshold'"), std::string::npos);
   EXPECT_NE(message_of("detector: {merge_stages: [{max_angle: x}]}").find("'max_angle'"), std::string::npos);
   EXPECT_NE(message_of("detector: {merge_stages: {max_angle: 1}}").find("merge_stages"), std::string::npos);
+  EXPECT_NE(message_of("stereo_matching: {min_zncc: 1.5}").find("stereo_matching.min_zncc"), std::string::npos);
+  EXPECT_NE(message_of("stereo_matching: {min_row_overlap: 0}").find("stereo_matching.min_row_overlap"),
+            std::string::npos);
+  EXPECT_NE(message_of("stereo_matching: {half_width: 0}").find("stereo_matching.half_width"), std::string::npos);
+  EXPECT_NE(message_of("stereo_matching: [1]").find("stereo_matching"), std::string::npos);
 }
 
 TEST(LineParams, ExampleConfigFileStatesTheDefaults) {
@@ -286,6 +298,12 @@ TEST(LineParams, ExampleConfigFileStatesTheDefaults) {
   EXPECT_FLOAT_EQ(loaded.association.grid_cell_size, defaults.association.grid_cell_size);
   EXPECT_FLOAT_EQ(loaded.matching.score_threshold, defaults.matching.score_threshold);
   EXPECT_EQ(loaded.matching.shared_threshold, defaults.matching.shared_threshold);
+  EXPECT_EQ(loaded.stereo_matching.by_appearance, defaults.stereo_matching.by_appearance);
+  EXPECT_FLOAT_EQ(loaded.stereo_matching.min_rows, defaults.stereo_matching.min_rows);
+  EXPECT_FLOAT_EQ(loaded.stereo_matching.min_row_overlap, defaults.stereo_matching.min_row_overlap);
+  EXPECT_FLOAT_EQ(loaded.stereo_matching.min_zncc, defaults.stereo_matching.min_zncc);
+  EXPECT_FLOAT_EQ(loaded.stereo_matching.min_margin, defaults.stereo_matching.min_margin);
+  EXPECT_EQ(loaded.stereo_matching.half_width, defaults.stereo_matching.half_width);
 }
 
 }  // namespace

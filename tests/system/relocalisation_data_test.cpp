@@ -149,8 +149,9 @@ TEST(RelocalisationData, KittiLightsOffForTenFramesStaysOnOneMap) {
   expect_one_map_through_the_dark(run_lights_off(dataset, onnx, config, span), 51, span);
 }
 
-// A kidnap on EuRoC MH_01: frames 50-79 never reach the VO, so frame 80 shows the camera 1.5 s later, elsewhere
-// in the mapped space. It must be relocalised into the same map.
+// A kidnap on EuRoC MH_01: frames 60-99 never reach the VO, so frame 100 shows the camera 2 s later, elsewhere
+// in the mapped space. It must be relocalised into the same map. (Shorter kidnaps on this clip, 50-79 say, are
+// now tracked from the last keyframe without relocalisation: the input must fail the VO without it.)
 TEST(RelocalisationData, EurocKidnapIsRelocalisedIntoTheSameMap) {
   VKVO_REQUIRE_DATA(dataset, "datasets/euroc_mh01_subset/MH_01_easy");
   VKVO_REQUIRE_DATA(onnx, "models/superpoint_v1.onnx");
@@ -159,16 +160,16 @@ TEST(RelocalisationData, EurocKidnapIsRelocalisedIntoTheSameMap) {
   test::RealSuperPoint superpoint(onnx, config, dir);
   const test::VoRun clean = superpoint.run(dataset, config, dir / "clean");
   io::FrameRange range;
-  range.skip = {{50, 79}};
+  range.skip = {{60, 99}};
   const test::VoRun kidnapped = superpoint.run(dataset, config, dir / "kidnapped", range);
   const test::VoRun before = superpoint.run(dataset, without_relocalisation(config), dir / "before", range);
   spdlog::info(
-      "kidnap 50-79: ATE clean {:.4f} m | relocalised {:.4f} m, {} relocalisations, {} segments | without "
+      "kidnap 60-99: ATE clean {:.4f} m | relocalised {:.4f} m, {} relocalisations, {} segments | without "
       "relocalisation {:.4f} m, {} segments",
       clean.evaluation.ate.translation_m.rmse, kidnapped.evaluation.ate.translation_m.rmse,
       kidnapped.result.relocalisations, kidnapped.result.segments, before.evaluation.ate.translation_m.rmse,
       before.result.segments);
-  EXPECT_EQ(kidnapped.result.frames, 100u);
+  EXPECT_EQ(kidnapped.result.frames, 90u);
   EXPECT_EQ(kidnapped.result.segments, 1);
   EXPECT_GE(kidnapped.result.relocalisations, 1);
   EXPECT_LE(kidnapped.evaluation.ate.translation_m.rmse, 1.3 * clean.evaluation.ate.translation_m.rmse);

@@ -1,8 +1,12 @@
 // The stereo half of keyframe creation on exact synthetic observations: stereo points and their gates, known
 // positions preferring tracked map points, and stereo lines from planes, from two points when the planes are
-// degenerate or the line has no right partner, and none when neither is possible.
+// degenerate or the line has no right partner, and none when neither is possible; lines without point support paired
+// by their rendered images.
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
+#include "features/lines/line_matching.hpp"
 #include "features/lines/point_line_association.hpp"
 #include "geometry/scene.hpp"  // tests/geometry: test_stereo_camera
 #include "system/stereo_keyframe.hpp"
@@ -117,9 +121,11 @@ TEST(StereoKeyframe, StereoLinesFromPlanesOrFromTwoKnownPoints) {
     ASSERT_EQ(stereo_points.count, 4 * kPointsPerLine + 1);
     const auto known = known_points_in_camera(stereo_points, {}, Eigen::Isometry3d::Identity());
 
+    const std::vector<int> partner =
+        features::match_lines(left_association, right_association, kp.matches.matches0, features::LineMatchParams{});
     const StereoLines out =
         triangulate_stereo_lines(stereo, {left_lines, left_association}, {right_lines, right_association},
-                                 {kp.left.keypoints, kp.matches.matches0, known}, {}, params);
+                                 {kp.left.keypoints, known}, partner, params);
     ASSERT_EQ(out.lines.size(), segments.size());
     ASSERT_EQ(out.right.size(), segments.size());
     // Fitted over their stereo points (the default), every line with three or more of them; the planes otherwise.
@@ -136,6 +142,55 @@ TEST(StereoKeyframe, StereoLinesFromPlanesOrFromTwoKnownPoints) {
       test::expect_same_line(*out.lines[l], PlueckerLine::from_points(segments[l].first, segments[l].second), 1e-3);
     }
     EXPECT_FALSE(out.lines[4]);
+  }
+}
+
+TEST(StereoKeyframe, LinesWithoutPointSupportArePairedByTheirImages) {
+  const geometry::StereoCamera stereo = test::test_stereo_camera();
+  // Left camera frame; no keypoints at all, as in the dark. Line 2 is parallel to the baseline.
+  const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments = {
+      {{-1.0, -0.6, 3.0}, {-0.9, 0.5, 3.5}},
+      {{0.4, -0.7, 4.0}, {0.5, 0.4, 4.6}},
+      {{-0.8, 0.8, 3.0}, {0.4, 0.8, 3.0}},
+  };
+  const cv::Size size(stereo.camera.width, stereo.camera.height);
+  cv::Mat left_image(size, CV_8UC1, cv::Scalar(120)), right_image(size, CV_8UC1, cv::Scalar(120));
+  const int grey[] = {230, 10, 230};  // a bright and a dark ridge: otherwise each line would fit the other's image
+  std::vector<features::LineSegment> left_lines, right_lines;
+  const auto to_cv = [](const Eigen::Vector2d& p) { return cv::Point2d(p.x(), p.y()); };
+  for (std::size_t l = 0; l < segments.size(); ++l) {
+    const auto& [A, B] = segments[l];
+    left_lines.push_back({to_float(stereo.camera.project(A)), to_float(stereo.camera.project(B))});
+    right_lines.push_back({to_float(stereo.project_right(A)), to_float(stereo.project_right(B))});
+    cv::line(left_image, to_cv(stereo.camera.project(A)), to_cv(stereo.camera.project(B)), grey[l], 3, cv::LINE_AA);
+    cv::line(right_image, to_cv(stereo.project_right(A)), to_cv(stereo.project_right(B)), grey[l], 3, cv::LINE_AA);
+  }
+  std::reverse(right_lines.begin(), right_lines.end());
+  const features::PointLineAssociation no_points{std::vector<std::vector<int>>(3), {}};
+  const std::vector<int> no_matches;
+  const std::vector<std::optional<Eigen::Vector3d>> no_positions;
+  const std::vector<Eigen::Vector2f> no_pixels;
+  const geometry::TriangulationParams gates;
+
+  features::LinePipelineParams params;
+  for (const bool by_appearance : {false, true}) {
+    SCOPED_TRACE(by_appearance ? "by appearance" : "through point matches only");
+    params.stereo_matching.by_appearance = by_appearance;
+    const std::vector<int> partner = match_stereo_lines(stereo, {left_lines, no_points}, {right_lines, no_points},
+                                                        {left_image, right_image}, no_matches, params, gates);
+    const std::vector<int> expected = by_appearance ? std::vector<int>{2, 1, -1} : std::vector<int>{-1, -1, -1};
+    EXPECT_EQ(partner, expected);
+    const StereoLines out = triangulate_stereo_lines(stereo, {left_lines, no_points}, {right_lines, no_points},
+                                                     {no_pixels, no_positions}, partner, gates);
+    EXPECT_EQ(out.planes, by_appearance ? 2 : 0);
+    EXPECT_EQ(out.points, 0);
+    for (int l : {0, 1}) {
+      ASSERT_EQ(out.lines[l].has_value(), by_appearance) << "line " << l;
+      // The drawn lines' images are exact to float rounding: the planes meet on the 3D line.
+      if (by_appearance)
+        test::expect_same_line(*out.lines[l], PlueckerLine::from_points(segments[l].first, segments[l].second), 1e-3);
+    }
+    EXPECT_FALSE(out.lines[2]);
   }
 }
 

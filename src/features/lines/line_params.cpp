@@ -106,6 +106,26 @@ LineMatchParams load_line_match_params(const YAML::Node& section) {
   return params;
 }
 
+StereoLineMatchParams load_stereo_line_match_params(const YAML::Node& section) {
+  StereoLineMatchParams params;
+  io::require_map(section, "stereo_matching");
+  io::read_param(section, "by_appearance", params.by_appearance);
+  io::read_param(section, "min_rows", params.min_rows);
+  io::read_param(section, "min_row_overlap", params.min_row_overlap);
+  io::read_param(section, "min_zncc", params.min_zncc);
+  io::read_param(section, "min_margin", params.min_margin);
+  io::read_param(section, "half_width", params.half_width);
+  if (!(params.min_rows >= 2.0f)) throw std::runtime_error("config key 'stereo_matching.min_rows': must be at least 2");
+  if (!(params.min_row_overlap > 0.0f && params.min_row_overlap <= 1.0f))
+    throw std::runtime_error("config key 'stereo_matching.min_row_overlap': must lie in (0, 1]");
+  if (!(params.min_zncc >= -1.0f && params.min_zncc <= 1.0f))
+    throw std::runtime_error("config key 'stereo_matching.min_zncc': must lie in [-1, 1]");
+  if (!(params.min_margin >= 0.0f))
+    throw std::runtime_error("config key 'stereo_matching.min_margin': must not be negative");
+  if (params.half_width < 1) throw std::runtime_error("config key 'stereo_matching.half_width': must be at least 1");
+  return params;
+}
+
 LinePipelineParams load_line_pipeline_params(const YAML::Node& section) {
   LinePipelineParams params;
   io::require_map(section, "lines");
@@ -113,6 +133,7 @@ LinePipelineParams load_line_pipeline_params(const YAML::Node& section) {
   params.detector = load_line_detector_params(section["detector"]);
   params.association = load_association_params(section["association"]);
   params.matching = load_line_match_params(section["matching"]);
+  params.stereo_matching = load_stereo_line_match_params(section["stereo_matching"]);
   return params;
 }
 

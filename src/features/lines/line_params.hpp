@@ -74,16 +74,35 @@ struct LineMatchParams {
   LineMatchScore score = LineMatchScore::kPaper;
 };
 
+// Left-right matching by appearance for the lines point matches leave unpaired (stereo_line_matching.hpp).
+struct StereoLineMatchParams {
+  bool by_appearance = true;
+  // Rows a segment must span [px]: a flatter one has no extent across the epipolar lines to compare, and its
+  // back-projected planes nearly coincide.
+  float min_rows = 10.0f;
+  // Rows both segments span, as a fraction of the longer one's: images of one 3D segment span the same rows.
+  float min_row_overlap = 0.5f;
+  // ZNCC over the strips (each row's samples across the line, all rows the two share).
+  float min_zncc = 0.8f;
+  // The best candidate's ZNCC above the second best's: parallel edges of one polarity correlate alike, and only
+  // a clear winner is taken.
+  float min_margin = 0.1f;
+  // Samples either side of the line on each row [px].
+  int half_width = 3;
+};
+
 struct LinePipelineParams {
   LineDetectorParams detector;
   AssociationParams association;
   LineMatchParams matching;
+  StereoLineMatchParams stereo_matching;
 };
 
 LineDetectorParams load_line_detector_params(const YAML::Node& section);
 AssociationParams load_association_params(const YAML::Node& section);
 LineMatchParams load_line_match_params(const YAML::Node& section);
-// Reads the sub-sections `detector`, `association` and `matching` of a `lines` section.
+StereoLineMatchParams load_stereo_line_match_params(const YAML::Node& section);
+// Reads the sub-sections `detector`, `association`, `matching` and `stereo_matching` of a `lines` section.
 LinePipelineParams load_line_pipeline_params(const YAML::Node& section);
 
 }  // namespace vkvo::features
