@@ -16,7 +16,7 @@ const char* to_string(KeyframeReason reason) {
 }
 
 KeyframeReason keyframe_reason(const KeyframeParams& p, const KeyframeDecisionInput& in) {
-  if (in.tracked < p.min_tracked) return KeyframeReason::tracking_failed;
+  if (in.tracked + in.tracked_lines < p.min_tracked) return KeyframeReason::tracking_failed;
   const Eigen::Isometry3d delta = in.T_world_last_keyframe.inverse() * in.T_world_current;
   if (delta.translation().norm() > p.max_translation) return KeyframeReason::translation;
   if (Eigen::AngleAxisd(delta.linear()).angle() > p.max_rotation) return KeyframeReason::rotation;

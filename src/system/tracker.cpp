@@ -244,7 +244,8 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
   auto estimate =
       backend::estimate_pose(stereo_, current.frame.T_world_camera, point_matches, line_matches, config_.optimization);
   timing.add(Module::IPE, ipe_watch.ms());
-  if (estimate.success && config_.tracking.use_lines && config_.line_projection.enabled && !current.frame.lines.empty())
+  if ((estimate.success || config_.tracking.lines_carry_frames) && config_.tracking.use_lines &&
+      config_.line_projection.enabled && !current.frame.lines.empty())
     out.projected_lines = add_projected_lines(current, {point_matches, point_of_match}, out.reference_keyframe,
                                               line_matches, line_of_match, estimate, timing);
   out.success = estimate.success;
@@ -470,6 +471,7 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
       .T_world_last_keyframe = last_keyframe ? last_keyframe->T_world_camera : T_world_first_,
       .T_world_current = current.frame.T_world_camera,
       .tracked = tracked ? result.tracked_points : 0,
+      .tracked_lines = tracked && config_.tracking.lines_carry_frames ? result.tracked_lines : 0,
       .tracked_previous = tracked_previous_,
       .frames_since_keyframe = frames_since_keyframe_ + 1};
   if (!tracked) {

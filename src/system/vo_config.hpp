@@ -29,6 +29,10 @@ struct TrackingParams {
   // a frame of edges and few corners (a plain room) can start a map; a line counts for a keypoint when detected
   // and for a stereo match when triangulated.
   bool init_counts_lines = true;
+  // A frame whose points fall short of a pose is still matched to the local map's lines (by projection from the
+  // pose the points gave, or the prediction) and tracked when points and lines together suffice; the keyframe
+  // rule's min_tracked counts its tracked lines too, so such a frame adds landmarks where they are running out.
+  bool lines_carry_frames = true;
   // The two counts above are for images of this many pixels (EuRoC, 752 x 480);
   // smaller images scale them down by the area ratio (SuperPoint finds corners per area: 97 on a 320 x 240
   // rendered room), never up. 0 disables the scaling.

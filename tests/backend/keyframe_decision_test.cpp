@@ -45,6 +45,20 @@ TEST(KeyframeDecision, EachRuleFiresAtItsThreshold) {
   EXPECT_EQ(keyframe_reason(p, in), KeyframeReason::tracking_failed);
   EXPECT_FALSE(need_new_keyframe(p, in));
 
+  // Tracked lines constrain the pose like points: with them the frame still counts as tracked (and, with few
+  // points, makes a keyframe), while few_tracked keeps counting the points the map needs.
+  in.tracked_lines = 1;
+  EXPECT_EQ(keyframe_reason(p, in), KeyframeReason::few_tracked);
+  EXPECT_TRUE(need_new_keyframe(p, in));
+  in.tracked = 4;
+  in.tracked_lines = 5;
+  EXPECT_EQ(keyframe_reason(p, in), KeyframeReason::tracking_failed);
+  in.tracked_lines = 6;
+  EXPECT_EQ(keyframe_reason(p, in), KeyframeReason::few_tracked);
+  in = steady();
+  in.tracked_lines = 100;
+  EXPECT_EQ(keyframe_reason(p, in), KeyframeReason::none);
+
   in = steady();
   in.tracked_previous = 9;
   EXPECT_EQ(keyframe_reason(p, in), KeyframeReason::recovered);
