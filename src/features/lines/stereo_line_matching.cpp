@@ -124,7 +124,7 @@ void add_stereo_partners_by_appearance(const ImageLines& left, const ImageLines&
       if (l != except) best = std::max(best, at(l, r));
     return best;
   };
-  std::vector<std::pair<std::size_t, std::size_t>> accepted;
+  // Scores stay as computed, so a pair taken here does not change the next line's decision.
   for (std::size_t l = 0; l < left_count; ++l) {
     if (partner[l] >= 0 || right_count == 0) continue;
     std::size_t r = 0;
@@ -133,9 +133,8 @@ void add_stereo_partners_by_appearance(const ImageLines& left, const ImageLines&
     const float s = at(l, r);
     if (s < params.min_zncc) continue;
     if (s - best_of_left(l, r) >= params.min_margin && s - best_of_right(r, l) >= params.min_margin)
-      accepted.emplace_back(l, r);
+      partner[l] = static_cast<int>(r);
   }
-  for (const auto& [l, r] : accepted) partner[l] = static_cast<int>(r);
 }
 
 }  // namespace vkvo::features
