@@ -112,24 +112,46 @@ double line_reprojection_error(const PlueckerLine& L_world, const PinholeCamera&
                   std::abs(point_line_distance(l, obs.segment.tail<2>())));
 }
 
+namespace {
+
+// s of the point P0 + s d of a line (|d| = 1) that the ray through `pixel` passes closest to; nullopt when the ray
+// is parallel to the line.
+std::optional<double> parameter_seen_at(const Eigen::Vector3d& P0, const Eigen::Vector3d& d,
+                                        const PinholeCamera& camera, const Eigen::Isometry3d& T_world_camera,
+                                        const Eigen::Vector2d& pixel) {
+  const Eigen::Vector3d C = T_world_camera.translation();
+  const Eigen::Vector3d r = T_world_camera.linear() * camera.backproject(pixel).normalized();
+  // Closest points of the line P0 + s d and the ray C + t r: normal equations of |P0 + s d - C - t r|^2.
+  const Eigen::Vector3d w = P0 - C;
+  const double dr = d.dot(r);
+  const double det = dr * dr - 1.0;  // |d| = |r| = 1
+  if (std::abs(det) < 1e-12) return std::nullopt;
+  return (d.dot(w) - dr * r.dot(w)) / det;
+}
+
+}  // namespace
+
+std::optional<Eigen::Vector3d> point_on_line_seen_at(const PlueckerLine& L_world, const PinholeCamera& camera,
+                                                     const Eigen::Isometry3d& T_world_camera,
+                                                     const Eigen::Vector2d& pixel) {
+  const Eigen::Vector3d P0 = L_world.closest_point_to_origin();
+  const Eigen::Vector3d d = L_world.direction();
+  const auto s = parameter_seen_at(P0, d, camera, T_world_camera, pixel);
+  if (!s) return std::nullopt;
+  return P0 + *s * d;
+}
+
 std::pair<Eigen::Vector3d, Eigen::Vector3d> trim_line(const PlueckerLine& L_world, const PinholeCamera& camera,
                                                       const std::vector<LineObservation>& observations) {
   const Eigen::Vector3d P0 = L_world.closest_point_to_origin();
   const Eigen::Vector3d d = L_world.direction();
   double s_min = std::numeric_limits<double>::infinity(), s_max = -s_min;
   for (const auto& obs : observations) {
-    const Eigen::Vector3d C = obs.T_world_camera.translation();
     for (int e = 0; e < 2; ++e) {
-      const Eigen::Vector3d r =
-          obs.T_world_camera.linear() * camera.backproject(obs.segment.segment<2>(2 * e)).normalized();
-      // Closest points of the line P0 + s d and the ray C + t r: normal equations of |P0 + s d - C - t r|^2.
-      const Eigen::Vector3d w = P0 - C;
-      const double dr = d.dot(r);
-      const double det = dr * dr - 1.0;     // |d| = |r| = 1
-      if (std::abs(det) < 1e-12) continue;  // ray parallel to the line
-      const double s = (d.dot(w) - dr * r.dot(w)) / det;
-      s_min = std::min(s_min, s);
-      s_max = std::max(s_max, s);
+      const auto s = parameter_seen_at(P0, d, camera, obs.T_world_camera, obs.segment.segment<2>(2 * e));
+      if (!s) continue;
+      s_min = std::min(s_min, *s);
+      s_max = std::max(s_max, *s);
     }
   }
   if (!(s_min <= s_max)) throw std::invalid_argument("trim_line: no usable observation");

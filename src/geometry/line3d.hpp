@@ -2,6 +2,7 @@
 // 3D lines: Pluecker coordinates (n, v) with n = X x v for any point X on the line (the normal of the plane through
 // the line and the origin, |n| / |v| = distance to the origin), the orthonormal (U, W) form used for 4-DoF
 // optimisation, transformation, projection to image lines and endpoint trimming. See method-notes "3D lines".
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -69,6 +70,12 @@ struct LineObservation {
 // to the projected image line, in pixels (the line residual of eq. 9, unweighted). Infinity when the line projects
 // to a point (it passes through the camera centre).
 double line_reprojection_error(const PlueckerLine& L_world, const PinholeCamera& camera, const LineObservation& obs);
+
+// The point of the 3D line that the ray through `pixel` passes closest to (where the pixel's ray meets the line);
+// nullopt when the ray is parallel to the line.
+std::optional<Eigen::Vector3d> point_on_line_seen_at(const PlueckerLine& L_world, const PinholeCamera& camera,
+                                                     const Eigen::Isometry3d& T_world_camera,
+                                                     const Eigen::Vector2d& pixel);
 
 // The 3D segment covered by the observations: each observed endpoint's ray is intersected with (closest point to)
 // the 3D line, and the extreme points along the line are kept. For output and visualisation.

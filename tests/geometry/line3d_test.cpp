@@ -1,5 +1,5 @@
 // Pluecker / orthonormal lines: round trips, transforms, the projection matrix K_L against brute-force projection
-// of 3D points, endpoint trimming.
+// of 3D points, endpoint trimming, the point a pixel's ray meets.
 #include <cmath>
 #include <random>
 
@@ -129,6 +129,26 @@ TEST(Line3d, TrimRecoversObservedExtent) {
     EXPECT_LT((E1 - (A + 0.1 * (B - A))).norm(), 1e-7);
     EXPECT_LT((E2 - (A + 0.7 * (B - A))).norm(), 1e-7);
   }
+}
+
+// The ray through the image of a point of the line meets the line at that point, from any pose that sees it; a ray
+// along the line's direction meets it nowhere.
+TEST(Line3d, PointSeenAtAPixelOfTheLinesImage) {
+  std::mt19937 rng(11);
+  const PinholeCamera cam = test::test_stereo_camera().camera;
+  for (int i = 0; i < 30; ++i) {
+    const auto [A, B] = random_segment(rng, cam);
+    const PlueckerLine L = PlueckerLine::from_points(A, B);
+    const Eigen::Isometry3d T = test::random_pose(rng, 0.2, 0.05);
+    const Eigen::Vector3d X = A + 0.3 * (B - A);
+    if ((T.inverse() * X).z() < 0.2) continue;
+    const auto seen = point_on_line_seen_at(L, cam, T, cam.project(T.inverse() * X));
+    ASSERT_TRUE(seen.has_value());
+    EXPECT_LT((*seen - X).norm(), 1e-7);
+  }
+  // The line through the optical axis: the principal point's ray runs along it.
+  const PlueckerLine axis = PlueckerLine::from_points({0, 0, 1}, {0, 0, 2});
+  EXPECT_FALSE(point_on_line_seen_at(axis, cam, Eigen::Isometry3d::Identity(), {cam.cx, cam.cy}).has_value());
 }
 
 // The reprojection error is the larger perpendicular distance of the observed endpoints to the projected line:

@@ -2,14 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <optional>
 #include <stdexcept>
 
 namespace vkvo::features {
 namespace {
 
-constexpr float kNoCorrelation = -2.0f;
 constexpr int kMaxRows = 64;  // rows sampled per strip: enough for the statistic, bounded cost for long lines
 
 // x of the segment's supporting line at row y (the segment is not horizontal).
@@ -18,19 +15,6 @@ float x_at_row(const LineSegment& s, float y) {
 }
 
 float row_extent(const LineSegment& s) { return std::abs(s.p1.y() - s.p0.y()); }
-
-// Bilinear sample of an 8-bit grey image; nullopt outside it.
-std::optional<float> sample(const cv::Mat& image, float x, float y) {
-  if (!(x >= 0.0f && y >= 0.0f && x < static_cast<float>(image.cols - 1) && y < static_cast<float>(image.rows - 1)))
-    return std::nullopt;
-  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-  const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
-  const auto* row0 = image.ptr<std::uint8_t>(y0);
-  const auto* row1 = image.ptr<std::uint8_t>(y0 + 1);
-  const float top = (1.0f - fx) * row0[x0] + fx * row0[x0 + 1];
-  const float bottom = (1.0f - fx) * row1[x0] + fx * row1[x0 + 1];
-  return (1.0f - fy) * top + fy * bottom;
-}
 
 struct RowSpan {
   float first = 0.0f, last = 0.0f;
@@ -66,28 +50,13 @@ float strip_correlation(const ImageLines& left, int left_line, const ImageLines&
   if (rows.length() < 2.0f || a.p0.y() == a.p1.y() || b.p0.y() == b.p1.y()) return kNoCorrelation;
   const int row_count = std::min(kMaxRows, static_cast<int>(rows.length()) + 1);
   const float row_step = rows.length() / static_cast<float>(row_count - 1);
-  double sum_a = 0, sum_b = 0, sum_aa = 0, sum_bb = 0, sum_ab = 0;
-  int n = 0;
+  StripSamples strip;  // across the line along the rows, as the disparity shifts it
   for (int i = 0; i < row_count; ++i) {
     const float y = rows.first + row_step * static_cast<float>(i);
-    const float xa = x_at_row(a, y), xb = x_at_row(b, y);
-    for (int o = -half_width; o <= half_width; ++o) {
-      const auto va = sample(left.image, xa + static_cast<float>(o), y);
-      const auto vb = sample(right.image, xb + static_cast<float>(o), y);
-      if (!va || !vb) continue;
-      sum_a += *va;
-      sum_b += *vb;
-      sum_aa += *va * *va;
-      sum_bb += *vb * *vb;
-      sum_ab += *va * *vb;
-      ++n;
-    }
+    strip.along_a.emplace_back(x_at_row(a, y), y);
+    strip.along_b.emplace_back(x_at_row(b, y), y);
   }
-  if (n < 3 * (2 * half_width + 1)) return kNoCorrelation;
-  const double var_a = sum_aa - sum_a * sum_a / n, var_b = sum_bb - sum_b * sum_b / n;
-  constexpr double kFlat = 1e-6;  // per sample, in squared grey levels: a strip without an edge
-  if (var_a <= kFlat * n || var_b <= kFlat * n) return kNoCorrelation;
-  return static_cast<float>((sum_ab - sum_a * sum_b / n) / std::sqrt(var_a * var_b));
+  return strip_zncc(left.image, right.image, strip, half_width);
 }
 
 void add_stereo_partners_by_appearance(const ImageLines& left, const ImageLines& right, const DisparityRange& disparity,
@@ -110,31 +79,7 @@ void add_stereo_partners_by_appearance(const ImageLines& left, const ImageLines&
         score[l * right_count + r] =
             strip_correlation(left, static_cast<int>(l), right, static_cast<int>(r), params.half_width);
   }
-  const auto at = [&](std::size_t l, std::size_t r) { return score[l * right_count + r]; };
-  // The best score of left line l over the right lines other than `except`, and of right line r likewise.
-  const auto best_of_left = [&](std::size_t l, std::size_t except) {
-    float best = kNoCorrelation;
-    for (std::size_t r = 0; r < right_count; ++r)
-      if (r != except) best = std::max(best, at(l, r));
-    return best;
-  };
-  const auto best_of_right = [&](std::size_t r, std::size_t except) {
-    float best = kNoCorrelation;
-    for (std::size_t l = 0; l < left_count; ++l)
-      if (l != except) best = std::max(best, at(l, r));
-    return best;
-  };
-  // Scores stay as computed, so a pair taken here does not change the next line's decision.
-  for (std::size_t l = 0; l < left_count; ++l) {
-    if (partner[l] >= 0 || right_count == 0) continue;
-    std::size_t r = 0;
-    for (std::size_t k = 1; k < right_count; ++k)
-      if (at(l, k) > at(l, r)) r = k;
-    const float s = at(l, r);
-    if (s < params.min_zncc) continue;
-    if (s - best_of_left(l, r) >= params.min_margin && s - best_of_right(r, l) >= params.min_margin)
-      partner[l] = static_cast<int>(r);
-  }
+  assign_clear_winners(score, left_count, right_count, params.min_zncc, params.min_margin, partner);
 }
 
 }  // namespace vkvo::features

@@ -9,6 +9,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "features/lines/line_appearance.hpp"
 #include "features/lines/line_params.hpp"
 #include "features/lines/line_segment.hpp"
 
