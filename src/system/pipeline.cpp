@@ -118,13 +118,15 @@ nlohmann::json evaluate_outputs(const io::StereoDataset& dataset, const RunResul
   return out;
 }
 
-// Map points with no stereo observation: the mono multi-view points (system/mono_points.hpp).
-std::size_t count_mono_points(const map::Map& map) {
+// Landmarks that no keyframe observing them paired in its right image: the mono multi-view points
+// (system/mono_points.hpp) and the lines triangulated from two keyframes (system/keyframe_lines.hpp).
+template <typename Landmarks, typename SeenInStereo>
+std::size_t count_without_stereo(const map::Map& map, const Landmarks& landmarks, SeenInStereo seen_in_stereo) {
   std::size_t count = 0;
-  for (const auto& [id, point] : map.points()) {
+  for (const auto& [id, landmark] : landmarks) {
     bool stereo = false;
-    for (const auto& [kf, index] : point.observations)
-      if (const map::KeyFrame* keyframe = map.keyframe(kf); keyframe && keyframe->is_stereo(index)) stereo = true;
+    for (const auto& [kf, index] : landmark.observations)
+      if (const map::KeyFrame* keyframe = map.keyframe(kf); keyframe && seen_in_stereo(*keyframe, index)) stereo = true;
     count += !stereo;
   }
   return count;
@@ -228,7 +230,11 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   result.merges = odometry.merges();
   result.map_points = map.points().size();
   result.map_lines = map.lines().size();
-  result.map_mono_points = count_mono_points(map);
+  result.map_mono_points = count_without_stereo(
+      map, map.points(), [](const map::KeyFrame& kf, int keypoint) { return kf.is_stereo(keypoint); });
+  result.map_mono_lines = count_without_stereo(map, map.lines(), [](const map::KeyFrame& kf, int line) {
+    return kf.lines[static_cast<std::size_t>(line)].right.has_value();
+  });
   const io::MapGeometry geometry = map_geometry(map, centres);
   io::write_map_ply(options.output_dir / "map.ply", geometry);
   if (options.observer) options.observer->finish(geometry);
@@ -259,8 +265,10 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
                                {"successes_by_appearance", reloc.successes_by_source[0]},
                                {"successes_by_position", reloc.successes_by_source[1]},
                                {"successes_by_recency", reloc.successes_by_source[2]}};
-  summary["map"] = {
-      {"points", result.map_points}, {"mono_points", result.map_mono_points}, {"lines", result.map_lines}};
+  summary["map"] = {{"points", result.map_points},
+                    {"mono_points", result.map_mono_points},
+                    {"lines", result.map_lines},
+                    {"mono_lines", result.map_mono_lines}};
   summary["lines_enabled"] = config.tracking.use_lines;
   summary["inliers_per_tracked_frame"] = result.inliers;
   summary["timing"] = result.timing.to_json(result.frames, result.wall_seconds);

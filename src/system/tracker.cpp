@@ -9,6 +9,7 @@
 #include "backend/local_ba.hpp"
 #include "backend/pose_estimation.hpp"
 #include "features/lines/line_matching.hpp"
+#include "system/keyframe_line_matching.hpp"
 #include "system/keyframe_lines.hpp"
 #include "system/map_line_projection.hpp"
 #include "system/mono_points.hpp"
@@ -631,9 +632,12 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
   }
   const KeyframeLineParams line_params{
       config_.triangulation, config_.optimization.pixel_sigma * std::sqrt(config_.optimization.mono_line_chi2)};
+  const std::vector<int> reference_partner =
+      new_segment ? std::vector<int>{}
+                  : reference_line_partners(*map_.keyframe(kf_id), input.left, stereo_lines, tracked);
   const NewKeyframeLines new_lines =
       add_keyframe_lines(map_, kf_id, stereo_lines, new_segment ? map::kInvalidId : tracked.reference_keyframe,
-                         tracked.reference_line_partner, stereo_.camera, line_params);
+                         reference_partner, stereo_.camera, line_params);
   if (!new_segment) {
     const auto ba = backend::local_bundle_adjustment(map_, kf_id, stereo_, config_.optimization);
     const auto [culled_points, culled_lines] = map_.cull(config_.map);
@@ -649,11 +653,43 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
   for (const map::Id id : map_.keyframe(kf_id)->line_ids)
     if (map_.line(id)) map_.trim_line(id, stereo_.camera);
   tracked.frame = *map_.keyframe(kf_id);  // BA may have moved it; associations now include the new landmarks
+  if (use_lines && config_.lines.keyframe_matching.by_appearance) {
+    constexpr std::size_t kKeptImages = 4;  // the reference is the newest keyframe but after a relocalisation
+    keyframe_images_[kf_id] = input.left.clone();
+    while (keyframe_images_.size() > kKeptImages) keyframe_images_.erase(keyframe_images_.begin());
+  }
   auto features = std::make_shared<const features::PointFeatures>(input.points);
   relocaliser_.add_keyframe(kf_id, features);
   publish_reference(kf_id, std::move(features));
   timing.add(Module::BA, keyframe_ms + watch.lap());
   return true;
+}
+
+std::vector<int> Tracker::reference_line_partners(const map::KeyFrame& kf, const cv::Mat& image,
+                                                  const StereoLines& stereo_lines, const Tracked& tracked) const {
+  std::vector<int> partner = tracked.reference_line_partner;
+  partner.resize(kf.lines.size(), -1);
+  const map::KeyFrame* reference = map_.keyframe(tracked.reference_keyframe);
+  const auto reference_image = keyframe_images_.find(tracked.reference_keyframe);
+  if (!reference || reference->id == kf.id || reference_image == keyframe_images_.end() ||
+      !config_.lines.keyframe_matching.by_appearance)
+    return partner;
+  const auto segments_of = [](const map::KeyFrame& k) {
+    std::vector<geometry::Segment2d> segments;
+    for (const auto& line : k.lines) segments.push_back(line.left);
+    return segments;
+  };
+  // Open: lines without a map line, and here also without a stereo triangulation.
+  std::vector<bool> open_here(kf.lines.size()), open_reference(reference->lines.size());
+  for (std::size_t l = 0; l < open_here.size(); ++l)
+    open_here[l] = kf.line_ids[l] == map::kInvalidId && !(l < stereo_lines.lines.size() && stereo_lines.lines[l]);
+  for (std::size_t r = 0; r < open_reference.size(); ++r) open_reference[r] = reference->line_ids[r] == map::kInvalidId;
+  const auto here_segments = segments_of(kf), reference_segments = segments_of(*reference);
+  add_keyframe_partners_by_appearance(
+      stereo_.camera, {image, here_segments, open_here, kf.T_world_camera},
+      {reference_image->second, reference_segments, open_reference, reference->T_world_camera}, config_.triangulation,
+      config_.lines.keyframe_matching, partner);
+  return partner;
 }
 
 }  // namespace vkvo::system

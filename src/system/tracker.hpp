@@ -9,6 +9,7 @@
 // then tries to relocalise against the older segments, and the first success merges the young segment into the
 // old map (one rigid SE(3) transform: stereo has no scale drift), fuses the landmarks seen in both and runs a local
 // bundle adjustment over the seam.
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -25,6 +26,7 @@
 #include "system/frame_observations.hpp"
 #include "system/point_frontend.hpp"
 #include "system/relocaliser.hpp"
+#include "system/stereo_keyframe.hpp"
 #include "system/timing.hpp"
 #include "system/vo_config.hpp"
 
@@ -147,6 +149,10 @@ class Tracker {
   // Whether a frame has enough to start a map segment from: keypoints and stereo points, and with
   // init_counts_lines its detected lines and `stereo_lines` of them triangulated.
   bool can_start_segment(const FrameInput& input, int stereo_points, int stereo_lines) const;
+  // Per line of the new keyframe `kf`, its partner in the reference keyframe: the point matches' pairing, plus
+  // pairs by appearance (keyframe_line_matching.hpp) for the lines neither those nor `stereo_lines` placed.
+  std::vector<int> reference_line_partners(const map::KeyFrame& kf, const cv::Mat& image,
+                                           const StereoLines& stereo_lines, const Tracked& tracked) const;
   // The constant-velocity prediction `steps` frame intervals after the last frame.
   Eigen::Isometry3d predicted_pose(double steps = 1.0) const;
   void publish_reference(map::Id keyframe, std::shared_ptr<const features::PointFeatures> features);
@@ -159,6 +165,8 @@ class Tracker {
   Relocaliser relocaliser_;
 
   map::Map map_;
+  // The left images of the newest keyframes, for pairing a new keyframe's lines with its reference's.
+  std::map<map::Id, cv::Mat> keyframe_images_;
   bool initialised_ = false;
   std::optional<Tracked> last_frame_;
   Eigen::Isometry3d T_world_last_ = Eigen::Isometry3d::Identity();

@@ -217,6 +217,7 @@ detector:
 association: {max_distance: 2.5, require_both_extents: false}
 matching: {score_threshold: 0.7, shared_threshold: 2}
 stereo_matching: {by_appearance: false, min_rows: 20, min_row_overlap: 0.7, min_zncc: 0.9, min_margin: 0.2, half_width: 4}
+keyframe_matching: {by_appearance: false, min_overlap: 0.3, min_zncc: 0.7, min_margin: 0.15, half_width: 2}
 )");
   const LinePipelineParams p = load_line_pipeline_params(config);
   EXPECT_EQ(p.detector.method, LineDetectorMethod::kLsd);
@@ -241,6 +242,11 @@ stereo_matching: {by_appearance: false, min_rows: 20, min_row_overlap: 0.7, min_
   EXPECT_FLOAT_EQ(p.stereo_matching.min_zncc, 0.9f);
   EXPECT_FLOAT_EQ(p.stereo_matching.min_margin, 0.2f);
   EXPECT_EQ(p.stereo_matching.half_width, 4);
+  EXPECT_FALSE(p.keyframe_matching.by_appearance);
+  EXPECT_FLOAT_EQ(p.keyframe_matching.min_overlap, 0.3f);
+  EXPECT_FLOAT_EQ(p.keyframe_matching.min_zncc, 0.7f);
+  EXPECT_FLOAT_EQ(p.keyframe_matching.min_margin, 0.15f);
+  EXPECT_EQ(p.keyframe_matching.half_width, 2);
 
   const LinePipelineParams defaults = load_line_pipeline_params(YAML::Node());
   EXPECT_EQ(defaults.detector.merge_stages.size(), 2u);
@@ -266,6 +272,11 @@ stereo_matching: {by_appearance: false, min_rows: 20, min_row_overlap: 0.7, min_
             std::string::npos);
   EXPECT_NE(message_of("stereo_matching: {half_width: 0}").find("stereo_matching.half_width"), std::string::npos);
   EXPECT_NE(message_of("stereo_matching: [1]").find("stereo_matching"), std::string::npos);
+  EXPECT_NE(message_of("keyframe_matching: {min_overlap: 1.5}").find("keyframe_matching.min_overlap"),
+            std::string::npos);
+  EXPECT_NE(message_of("keyframe_matching: {min_zncc: -2}").find("keyframe_matching.min_zncc"), std::string::npos);
+  EXPECT_NE(message_of("keyframe_matching: {min_margin: -1}").find("keyframe_matching.min_margin"), std::string::npos);
+  EXPECT_NE(message_of("keyframe_matching: 3").find("keyframe_matching"), std::string::npos);
 }
 
 TEST(LineParams, ExampleConfigFileStatesTheDefaults) {
@@ -304,6 +315,11 @@ TEST(LineParams, ExampleConfigFileStatesTheDefaults) {
   EXPECT_FLOAT_EQ(loaded.stereo_matching.min_zncc, defaults.stereo_matching.min_zncc);
   EXPECT_FLOAT_EQ(loaded.stereo_matching.min_margin, defaults.stereo_matching.min_margin);
   EXPECT_EQ(loaded.stereo_matching.half_width, defaults.stereo_matching.half_width);
+  EXPECT_EQ(loaded.keyframe_matching.by_appearance, defaults.keyframe_matching.by_appearance);
+  EXPECT_FLOAT_EQ(loaded.keyframe_matching.min_overlap, defaults.keyframe_matching.min_overlap);
+  EXPECT_FLOAT_EQ(loaded.keyframe_matching.min_zncc, defaults.keyframe_matching.min_zncc);
+  EXPECT_FLOAT_EQ(loaded.keyframe_matching.min_margin, defaults.keyframe_matching.min_margin);
+  EXPECT_EQ(loaded.keyframe_matching.half_width, defaults.keyframe_matching.half_width);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 // docs/testing.md (time).
 #include <algorithm>
 #include <memory>
+#include <optional>
 
 #include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
@@ -80,12 +81,14 @@ void log_comparison(const test::VoRun& clean, const test::VoRun& stressed) {
 
 struct CleanAndStressed {
   test::VoRun clean, stressed;
+  std::optional<test::VoRun> clean_variant;  // the clean clip under another configuration, when asked for
 };
 
 // The whole clip (`frames` pairs) clean, then with `stress` applied, on one converted pack; checks what every clip
 // must show: the clean run tracks every frame, the stressed one recovers (expect_recovered).
 CleanAndStressed run_clean_and_stressed(const fs::path& dataset, const fs::path& onnx, const VoConfig& config,
-                                        std::size_t frames, const PhotometricStress& stress) {
+                                        std::size_t frames, const PhotometricStress& stress,
+                                        const std::optional<VoConfig>& clean_variant = std::nullopt) {
   const auto dir = test::temp_dir("vo_superpoint");
   test::RealSuperPoint superpoint(onnx, config, dir);
   CleanAndStressed runs;
@@ -101,6 +104,7 @@ CleanAndStressed run_clean_and_stressed(const fs::path& dataset, const fs::path&
   log_comparison(runs.clean, runs.stressed);
   test::expect_every_frame_tracked(runs.clean, frames);
   expect_recovered(runs.stressed, frames, stress);
+  if (clean_variant) runs.clean_variant = superpoint.run(dataset, *clean_variant, dir / "clean_variant");
   return runs;
 }
 
@@ -113,13 +117,20 @@ TEST(VoSuperPointData, EurocMh01CleanAndUnderPhotometricStress) {
   VKVO_REQUIRE_DATA(onnx, "models/superpoint_v1.onnx");
   const auto config = load_vo_config(test::source_dir() / "config" / "euroc.yaml");
   const PhotometricStress stress{.dim = {30, 37}, .black = {60, 62}, .gamma = {90, 97}};
-  const auto [clean, stressed] = run_clean_and_stressed(dataset, onnx, config, 130, stress);
+  VoConfig unpaired = config;
+  unpaired.lines.keyframe_matching.by_appearance = false;
+  const auto [clean, stressed, clean_unpaired] = run_clean_and_stressed(dataset, onnx, config, 130, stress, unpaired);
   // Clean: bound the 3 cm. Stressed: only the black frames may be untracked; tracking resumes in the same
   // map segment and the gap is interpolated. Bound: the 1.5x the clean ATE, over all frames and over the
   // tracked ones. (Measured ATEs: docs/accuracy.md; run times: docs/testing.md.)
   EXPECT_LT(ate_rmse(clean.evaluation), 0.03);
   EXPECT_LE(ate_rmse(test::evaluate_tracked_frames(stressed)), 1.5 * ate_rmse(clean.evaluation));
   EXPECT_LE(ate_rmse(stressed.evaluation), 1.5 * ate_rmse(clean.evaluation));
+  // Keyframes pair the lines the stereo pair left unplaced with their reference keyframe's (measured: 16 map lines
+  // without a right-image view against 9 without the pairing, which are the lines through two mapped points).
+  ASSERT_TRUE(clean_unpaired.has_value());
+  EXPECT_GT(clean.result.map_mono_lines, clean_unpaired->result.map_mono_lines);
+  EXPECT_GT(clean.result.map_lines, clean_unpaired->result.map_lines);
 }
 
 // KITTI 01 (highway, ~1 m per frame), all 51 pairs: gain 25% on frames 10-14, black frames 25-26, gamma flicker
@@ -129,7 +140,7 @@ TEST(VoSuperPointData, Kitti01CleanAndUnderPhotometricStress) {
   VKVO_REQUIRE_DATA(onnx, "models/superpoint_v1.onnx");
   const auto config = load_vo_config(test::source_dir() / "config" / "kitti.yaml");
   const PhotometricStress stress{.dim = {10, 14}, .black = {25, 26}, .gamma = {38, 42}};
-  const auto [clean, stressed] = run_clean_and_stressed(dataset, onnx, config, 51, stress);
+  const auto [clean, stressed, no_variant] = run_clean_and_stressed(dataset, onnx, config, 51, stress);
   // Every second frame is a keyframe, whose right image runs SuperPoint too (the slower of the two tests). Clean:
   // bound the 2% of the path. Stressed: only the two black frames may be untracked; tracking resumes in
   // the same segment and the gap is interpolated. Bound: the 1.5x, on both. (Measured ATEs:

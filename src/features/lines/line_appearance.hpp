@@ -6,8 +6,8 @@
 #include <cstddef>
 #include <vector>
 
-#include <opencv2/core.hpp>
 #include <Eigen/Core>
+#include <opencv2/core.hpp>
 
 namespace vkvo::features {
 

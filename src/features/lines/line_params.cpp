@@ -35,6 +35,19 @@ MergeStage load_merge_stage(const YAML::Node& node, const std::string& context) 
   return stage;
 }
 
+// The switch and the gates shared by the two appearance matchings (stereo_matching, keyframe_matching).
+void read_appearance_gates(const YAML::Node& section, const std::string& name, bool& by_appearance, float& min_zncc,
+                           float& min_margin, int& half_width) {
+  io::read_param(section, "by_appearance", by_appearance);
+  io::read_param(section, "min_zncc", min_zncc);
+  io::read_param(section, "min_margin", min_margin);
+  io::read_param(section, "half_width", half_width);
+  if (!(min_zncc >= -1.0f && min_zncc <= 1.0f))
+    throw std::runtime_error("config key '" + name + ".min_zncc': must lie in [-1, 1]");
+  if (!(min_margin >= 0.0f)) throw std::runtime_error("config key '" + name + ".min_margin': must not be negative");
+  if (half_width < 1) throw std::runtime_error("config key '" + name + ".half_width': must be at least 1");
+}
+
 }  // namespace
 
 LineDetectorParams load_line_detector_params(const YAML::Node& section) {
@@ -109,20 +122,24 @@ LineMatchParams load_line_match_params(const YAML::Node& section) {
 StereoLineMatchParams load_stereo_line_match_params(const YAML::Node& section) {
   StereoLineMatchParams params;
   io::require_map(section, "stereo_matching");
-  io::read_param(section, "by_appearance", params.by_appearance);
+  read_appearance_gates(section, "stereo_matching", params.by_appearance, params.min_zncc, params.min_margin,
+                        params.half_width);
   io::read_param(section, "min_rows", params.min_rows);
   io::read_param(section, "min_row_overlap", params.min_row_overlap);
-  io::read_param(section, "min_zncc", params.min_zncc);
-  io::read_param(section, "min_margin", params.min_margin);
-  io::read_param(section, "half_width", params.half_width);
   if (!(params.min_rows >= 2.0f)) throw std::runtime_error("config key 'stereo_matching.min_rows': must be at least 2");
   if (!(params.min_row_overlap > 0.0f && params.min_row_overlap <= 1.0f))
     throw std::runtime_error("config key 'stereo_matching.min_row_overlap': must lie in (0, 1]");
-  if (!(params.min_zncc >= -1.0f && params.min_zncc <= 1.0f))
-    throw std::runtime_error("config key 'stereo_matching.min_zncc': must lie in [-1, 1]");
-  if (!(params.min_margin >= 0.0f))
-    throw std::runtime_error("config key 'stereo_matching.min_margin': must not be negative");
-  if (params.half_width < 1) throw std::runtime_error("config key 'stereo_matching.half_width': must be at least 1");
+  return params;
+}
+
+KeyframeLineMatchParams load_keyframe_line_match_params(const YAML::Node& section) {
+  KeyframeLineMatchParams params;
+  io::require_map(section, "keyframe_matching");
+  read_appearance_gates(section, "keyframe_matching", params.by_appearance, params.min_zncc, params.min_margin,
+                        params.half_width);
+  io::read_param(section, "min_overlap", params.min_overlap);
+  if (!(params.min_overlap > 0.0f && params.min_overlap <= 1.0f))
+    throw std::runtime_error("config key 'keyframe_matching.min_overlap': must lie in (0, 1]");
   return params;
 }
 
@@ -134,6 +151,7 @@ LinePipelineParams load_line_pipeline_params(const YAML::Node& section) {
   params.association = load_association_params(section["association"]);
   params.matching = load_line_match_params(section["matching"]);
   params.stereo_matching = load_stereo_line_match_params(section["stereo_matching"]);
+  params.keyframe_matching = load_keyframe_line_match_params(section["keyframe_matching"]);
   return params;
 }
 

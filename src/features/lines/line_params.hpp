@@ -91,18 +91,34 @@ struct StereoLineMatchParams {
   int half_width = 3;
 };
 
+// Keyframe-to-reference-keyframe matching by appearance for the new keyframe's lines that neither the stereo pair
+// nor the point matches placed (system/keyframe_line_matching.hpp): the same line seen from two poses.
+struct KeyframeLineMatchParams {
+  bool by_appearance = true;
+  // Samples transferred from the new keyframe's segment that land on the reference segment, as a fraction of the
+  // samples, and the reference segment's extent they cover, as a fraction of its length: both images of one 3D
+  // segment overlap.
+  float min_overlap = 0.5f;
+  float min_zncc = 0.8f;    // as for stereo pairs
+  float min_margin = 0.1f;  // ... the clear winner among candidates
+  int half_width = 3;       // samples either side of the line, across it [px]
+};
+
 struct LinePipelineParams {
   LineDetectorParams detector;
   AssociationParams association;
   LineMatchParams matching;
   StereoLineMatchParams stereo_matching;
+  KeyframeLineMatchParams keyframe_matching;
 };
 
 LineDetectorParams load_line_detector_params(const YAML::Node& section);
 AssociationParams load_association_params(const YAML::Node& section);
 LineMatchParams load_line_match_params(const YAML::Node& section);
 StereoLineMatchParams load_stereo_line_match_params(const YAML::Node& section);
-// Reads the sub-sections `detector`, `association`, `matching` and `stereo_matching` of a `lines` section.
+KeyframeLineMatchParams load_keyframe_line_match_params(const YAML::Node& section);
+// Reads the sub-sections `detector`, `association`, `matching`, `stereo_matching` and `keyframe_matching` of a
+// `lines` section.
 LinePipelineParams load_line_pipeline_params(const YAML::Node& section);
 
 }  // namespace vkvo::features
