@@ -8,8 +8,8 @@
 // only if they are the same edge, and an overlap gate rejects pairs whose segments do not cover one another.
 #include <vector>
 
-#include <opencv2/core.hpp>
 #include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 
 #include "features/lines/line_params.hpp"
 #include "geometry/camera.hpp"

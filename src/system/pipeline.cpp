@@ -119,7 +119,8 @@ nlohmann::json evaluate_outputs(const io::StereoDataset& dataset, const RunResul
 }
 
 // Landmarks that no keyframe observing them paired in its right image: the mono multi-view points
-// (system/mono_points.hpp) and the lines triangulated from two keyframes (system/keyframe_lines.hpp).
+// (system/mono_points.hpp), and the lines triangulated from two keyframes (system/keyframe_lines.hpp) or through
+// two mapped points on them (system/stereo_keyframe.hpp).
 template <typename Landmarks, typename SeenInStereo>
 std::size_t count_without_stereo(const map::Map& map, const Landmarks& landmarks, SeenInStereo seen_in_stereo) {
   std::size_t count = 0;

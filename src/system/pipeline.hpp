@@ -59,7 +59,7 @@ struct RunResult {
   int merges = 0;            // young segments merged into older ones
   std::size_t map_points = 0, map_lines = 0;
   std::size_t map_mono_points = 0;  // map points that no keyframe matched in its right image (map.mono_points)
-  std::size_t map_mono_lines = 0;   // ... map lines likewise (from two keyframes, lines.keyframe_matching)
+  std::size_t map_mono_lines = 0;   // ... map lines likewise (from two keyframes, or through two mapped points)
   double wall_seconds = 0;
   TimingReport timing;
   // TUM, cam0 poses (raw left camera), one line per processed frame from the first tracked one on; earlier lines

@@ -27,8 +27,7 @@ struct Bar {
 
 const std::vector<Bar> kBars = {
     {-0.90, -0.70, -0.50, 0.30, 130.0, 0.13},  // vertical bars
-    {0.10, 0.22, -0.35, 0.50, 120.0, 0.21},
-    {0.60, 0.75, -0.60, 0.10, 140.0, 0.08},
+    {0.10, 0.22, -0.35, 0.50, 120.0, 0.21},   {0.60, 0.75, -0.60, 0.10, 140.0, 0.08},
     {-0.50, 0.40, 0.62, 0.72, 135.0, 0.17},  // horizontal bars
     {-0.70, 0.10, -0.85, -0.75, 125.0, 0.11},
 };
@@ -159,10 +158,10 @@ TEST(KeyframeLineMatching, KeepsGivenPartnersAndLeavesClosedLines) {
 TEST(KeyframeLineMatching, RejectsWrongInputs) {
   const TwoViews views;
   std::vector<int> partner(3, -1);
-  EXPECT_THROW(add_keyframe_partners_by_appearance(kCamera, {views.image2, views.lines2, views.open2, views.T2},
-                                                   {views.image1, views.lines1, views.open1, views.T1}, {}, {},
-                                                   partner),
-               std::invalid_argument);
+  EXPECT_THROW(
+      add_keyframe_partners_by_appearance(kCamera, {views.image2, views.lines2, views.open2, views.T2},
+                                          {views.image1, views.lines1, views.open1, views.T1}, {}, {}, partner),
+      std::invalid_argument);
 }
 
 }  // namespace
