@@ -26,10 +26,11 @@ struct Bar {
 };
 
 const std::vector<Bar> kBars = {
-    {-0.90, -0.70, -0.50, 0.30, 130.0, 0.13},  // vertical bars
-    {0.10, 0.22, -0.35, 0.50, 120.0, 0.21},   {0.60, 0.75, -0.60, 0.10, 140.0, 0.08},
-    {-0.50, 0.40, 0.62, 0.72, 135.0, 0.17},  // horizontal bars
-    {-0.70, 0.10, -0.85, -0.75, 125.0, 0.11},
+    {-0.90, -0.70, -0.50, 0.30, 130.0, 0.13},  // bar 1, vertical (edges 0-3: left, right, bottom, top)
+    {0.10, 0.22, -0.35, 0.50, 120.0, 0.21},    // bar 2, vertical (4-7)
+    {0.60, 0.75, -0.60, 0.10, 140.0, 0.08},    // bar 3, vertical (8-11)
+    {-0.50, 0.40, 0.62, 0.72, 135.0, 0.17},    // bar 4, horizontal (12-15)
+    {-0.70, 0.10, -0.85, -0.75, 125.0, 0.11},  // bar 5, horizontal (16-19)
 };
 
 double wall_grey(double x, double y) {
@@ -115,7 +116,7 @@ int correctly_paired(const std::vector<int>& partner) {
 }
 
 // Short edges whose strips are steps with little along them to tell them apart are left unpaired by the margin
-// rather than paired wrongly (bar 2's top edge against bar 4's bottom edge: ZNCC 1.00 and 0.96); the long
+// rather than paired wrongly (bar 2's top edge against bar 4's short right edge: ZNCC 1.00 and 0.96); the long
 // horizontal edges (bars 4 and 5), which a stereo pair cannot place, all pair.
 TEST(KeyframeLineMatching, EdgesFindTheirOwnImagesInTheReferenceKeyframe) {
   const TwoViews views;
