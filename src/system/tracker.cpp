@@ -654,7 +654,9 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     if (map_.line(id)) map_.trim_line(id, stereo_.camera);
   tracked.frame = *map_.keyframe(kf_id);  // BA may have moved it; associations now include the new landmarks
   if (use_lines && config_.lines.keyframe_matching.by_appearance) {
-    constexpr std::size_t kKeptImages = 4;  // the reference is the newest keyframe but after a relocalisation
+    // A frame's reference is the newest keyframe, but after a relocalisation the one it was found at: an older
+    // reference than these gets no line pairing.
+    constexpr std::size_t kKeptImages = 4;
     keyframe_images_[kf_id] = input.left.clone();
     while (keyframe_images_.size() > kKeptImages) keyframe_images_.erase(keyframe_images_.begin());
   }
