@@ -2,7 +2,7 @@
 // A new keyframe's lines paired with its reference keyframe's by appearance, for the lines that neither the stereo
 // pair nor the point matches placed. Most of a keyframe's lines get no right partner (near-horizontal ones have no
 // disparity to measure, others are detected differently in the right image) and share fewer than two matched
-// points with the reference keyframe (paper eq. 2), so they never become map lines. Between two keyframes of known
+// points with the reference keyframe (paper eq. 2), so few become map lines. Between two keyframes of known
 // pose every candidate pair triangulates to one 3D line (the planes' intersection, within the depth gates), which
 // transfers each point of the new segment onto the reference image; the strips along the two images then correlate
 // only if they are the same edge, and an overlap gate rejects pairs whose segments do not cover one another.
