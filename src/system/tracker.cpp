@@ -12,6 +12,7 @@
 #include "system/keyframe_line_matching.hpp"
 #include "system/keyframe_lines.hpp"
 #include "system/map_line_projection.hpp"
+#include "system/map_point_projection.hpp"
 #include "system/mono_points.hpp"
 #include "system/stereo_keyframe.hpp"
 
@@ -221,7 +222,6 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
       if (!usable(p)) continue;
       point_matches.push_back({p->position, {current.frame.keypoints[i], -1.0}});
       point_of_match.emplace_back(static_cast<int>(i), id);
-      out.map_matched.push_back(static_cast<int>(i));
     }
     if (config_.tracking.use_lines && !current.frame.lines.empty() && !reference->lines.empty()) {
       const Stopwatch watch;
@@ -245,6 +245,11 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
   auto estimate =
       backend::estimate_pose(stereo_, current.frame.T_world_camera, point_matches, line_matches, config_.optimization);
   timing.add(Module::IPE, ipe_watch.ms());
+  if (config_.tracking.point_projection.enabled &&
+      estimate.num_point_inliers < config_.tracking.point_projection.below_point_inliers)
+    out.projected_points = add_projected_points(input, current, out.reference_keyframe, point_matches, point_of_match,
+                                                line_matches, estimate, timing);
+  for (const auto& [keypoint, point] : point_of_match) out.map_matched.push_back(keypoint);
   if ((estimate.success || config_.tracking.lines_carry_frames) && config_.tracking.use_lines &&
       config_.line_projection.enabled && !current.frame.lines.empty())
     out.projected_lines = add_projected_lines(current, {point_matches, point_of_match}, out.reference_keyframe,
@@ -259,6 +264,45 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
   for (std::size_t k = 0; k < line_of_match.size(); ++k)
     if (estimate.line_inliers[k]) out.lines.push_back(line_of_match[k]);
   return out;
+}
+
+int Tracker::add_projected_points(const FrameInput& input, const Tracked& current, map::Id reference_keyframe,
+                                  std::vector<backend::PointMatch>& point_matches,
+                                  std::vector<std::pair<int, map::Id>>& point_of_match,
+                                  const std::vector<backend::LineMatch>& line_matches, backend::PoseEstimate& estimate,
+                                  TimingReport& timing) const {
+  const Stopwatch watch;
+  std::vector<bool> taken(current.frame.keypoints.size(), false);
+  std::vector<map::Id> tracked;
+  for (const auto& [keypoint, point] : point_of_match) {
+    taken[static_cast<std::size_t>(keypoint)] = true;
+    tracked.push_back(point);
+  }
+  const Eigen::Isometry3d pose = estimate.success ? estimate.T_world_camera : current.frame.T_world_camera;
+  const map::Id anchor = map_.keyframe(reference_keyframe) ? reference_keyframe : map_.last_keyframe_id();
+  const auto projected = match_points_by_projection(
+      map_, map_.local_window(anchor, config_.optimization.window_size),
+      [this](map::Id kf) { return relocaliser_.features(kf); }, input.points, pose, taken, tracked, stereo_.camera,
+      config_.tracking.point_projection);
+  timing.add(Module::PM, watch.ms());
+  if (projected.empty()) return 0;
+
+  std::vector<backend::PointMatch> points = point_matches;
+  std::vector<std::pair<int, map::Id>> landmarks = point_of_match;
+  for (const ProjectedPointMatch& m : projected) {
+    points.push_back(
+        {map_.point(m.map_point)->position, {current.frame.keypoints[static_cast<std::size_t>(m.keypoint)], -1.0}});
+    landmarks.emplace_back(m.keypoint, m.map_point);
+  }
+  const Stopwatch refine_watch;
+  auto refined = backend::estimate_pose(stereo_, pose, points, line_matches, config_.optimization);
+  timing.add(Module::IPE, refine_watch.ms());
+  if (refined.num_point_inliers + refined.num_line_inliers <= estimate.num_point_inliers + estimate.num_line_inliers)
+    return 0;
+  estimate = std::move(refined);
+  point_matches = std::move(points);
+  point_of_match = std::move(landmarks);
+  return static_cast<int>(projected.size());
 }
 
 int Tracker::add_projected_lines(const Tracked& current, const PointMatchesOfFrame& points, map::Id reference_keyframe,
@@ -520,16 +564,16 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
   }
   frames_since_keyframe_ = result.keyframe ? 0 : frames_since_keyframe_ + 1;
   spdlog::debug(
-      "frame {}: {} keypoints, {} matches to {} {} ({} with map points), {} point / {} line inliers ({} lines by "
-      "projection){}{}{}{}",
+      "frame {}: {} keypoints, {} matches to {} {} ({} with map points), {} point / {} line inliers ({} points / "
+      "{} lines by projection){}{}{}{}",
       input.index, input.points.size(), result.matches,
       reference.matched_previous_frame ? "previous frame"
       : reference.rematched            ? "(re-matched) keyframe"
                                        : "keyframe",
       reference.matched_previous_frame ? input.index - 1 : reference.reference_keyframe, reference.map_point_matches,
-      result.tracked_points, result.tracked_lines, reference.projected_lines, reference.used_pnp ? ", PnP" : "",
-      result.keyframe ? ", keyframe" : "", result.state == FrameState::relocalised ? ", RELOCALISED" : "",
-      tracked ? "" : ", LOST");
+      result.tracked_points, result.tracked_lines, reference.projected_points, reference.projected_lines,
+      reference.used_pnp ? ", PnP" : "", result.keyframe ? ", keyframe" : "",
+      result.state == FrameState::relocalised ? ", RELOCALISED" : "", tracked ? "" : ", LOST");
 
   result.T_world_camera = current.frame.T_world_camera;
   result.segment = segment_;

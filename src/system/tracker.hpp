@@ -117,7 +117,8 @@ class Tracker {
     std::vector<int> map_matched;                        // keypoints matched to a map point, inliers or not
     int point_inliers = 0, line_inliers = 0;
     int matches = 0, map_point_matches = 0;
-    int projected_lines = 0;  // line matches found by projecting the local map (before outlier rejection)
+    int projected_points = 0;  // point matches found by projecting the local map (before outlier rejection)
+    int projected_lines = 0;   // line matches found by projecting the local map (before outlier rejection)
     bool rematched = false, matched_previous_frame = false, used_pnp = false;
     map::Id reference_keyframe = map::kInvalidId;
   };
@@ -131,6 +132,14 @@ class Tracker {
   Tracked make_frame(const FrameInput& input, const Eigen::Isometry3d& pose, TimingReport& timing) const;
   TrackResult initialise(const FrameInput& input, Tracked& current, TimingReport& timing);
   ReferenceTracking track_reference(const FrameInput& input, Tracked& current, TimingReport& timing);
+  // The local map's points near their projections at `estimate` (or at the prediction where it failed), for a
+  // frame whose points fall short (map_point_projection.hpp): they join the point matches and the pose is
+  // estimated again; kept when it gains support. Returns how many were found.
+  int add_projected_points(const FrameInput& input, const Tracked& current, map::Id reference_keyframe,
+                           std::vector<backend::PointMatch>& point_matches,
+                           std::vector<std::pair<int, map::Id>>& point_of_match,
+                           const std::vector<backend::LineMatch>& line_matches, backend::PoseEstimate& estimate,
+                           TimingReport& timing) const;
   // The local map's lines that the matching through points left out, found by projection at `estimate`
   // (map_line_projection.hpp): they join the line matches, the first estimate's outlier lines leave, and the pose
   // is refined with them. Returns how many were found (0: nothing changed).

@@ -16,6 +16,7 @@
 #include "io/dataset.hpp"
 #include "map/map.hpp"
 #include "system/map_line_projection.hpp"
+#include "system/map_point_projection.hpp"
 #include "system/relocaliser.hpp"
 
 namespace vkvo::system {
@@ -33,6 +34,9 @@ struct TrackingParams {
   // pose the points gave, or the prediction) and tracked when points and lines together suffice; the keyframe
   // rule's min_tracked counts its tracked lines too, so such a frame adds landmarks where they are running out.
   bool lines_carry_frames = true;
+  // Optionally, a frame whose points fall short is also matched to the local map's points near their projections
+  // (key point_projection, map_point_projection.hpp).
+  PointProjectionParams point_projection;
   // The two counts above are for images of this many pixels (EuRoC, 752 x 480);
   // smaller images scale them down by the area ratio (SuperPoint finds corners per area: 97 on a 320 x 240
   // rendered room), never up. 0 disables the scaling.
