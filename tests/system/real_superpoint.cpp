@@ -32,9 +32,9 @@ VoRun RealSuperPoint::run(const std::filesystem::path& dataset, const system::Vo
 
 std::filesystem::path perturbed_copy(const std::filesystem::path& dataset,
                                      const std::vector<synth::IlluminationEvent>& events,
-                                     const std::filesystem::path& dir) {
+                                     const std::filesystem::path& dir, const synth::PerturbOptions& options) {
   const std::filesystem::path copy = dir / dataset.filename();
-  synth::perturb_sequence(dataset, copy, events);
+  synth::perturb_sequence(dataset, copy, events, options);
   // The EuRoC reader finds the cam0 ground truth next to the sequence (<parent>/groundtruth), outside the copy.
   if (const auto groundtruth = dataset.parent_path() / "groundtruth"; std::filesystem::is_directory(groundtruth))
     std::filesystem::copy(groundtruth, dir / "groundtruth", std::filesystem::copy_options::recursive);

@@ -12,6 +12,7 @@
 #include "system/vo_config.hpp"
 #include "system/vo_harness.hpp"
 #include "tools/synth/illumination.hpp"
+#include "tools/synth/perturb.hpp"
 
 namespace vkvo::test {
 
@@ -32,10 +33,10 @@ class RealSuperPoint {
   system::CachedFrontend feature_frontend_, stereo_frontend_;
 };
 
-// A copy of the clip in `dir` with the events applied to its images (calibration, timestamps and ground truth
-// unchanged; EuRoC's ground truth folder beside the sequence is copied beside the copy).
+// A copy of the clip in `dir` with the events (and the options' read noise) applied to its images (calibration,
+// timestamps and ground truth unchanged; EuRoC's ground truth folder beside the sequence is copied beside the copy).
 std::filesystem::path perturbed_copy(const std::filesystem::path& dataset,
                                      const std::vector<synth::IlluminationEvent>& events,
-                                     const std::filesystem::path& dir);
+                                     const std::filesystem::path& dir, const synth::PerturbOptions& options = {});
 
 }  // namespace vkvo::test

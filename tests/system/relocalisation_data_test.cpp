@@ -4,6 +4,7 @@
 // it fails what the test asks: the test measures the feature, not the clip. The features of every image come from
 // the feature cache shared with the other data tests (test::RealSuperPoint), so only the darkened images run the
 // network here.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -147,6 +148,39 @@ TEST(RelocalisationData, KittiLightsOffForTenFramesStaysOnOneMap) {
   const auto config = load_vo_config(test::source_dir() / "config" / "kitti.yaml");
   const Span span{15, 24};
   expect_one_map_through_the_dark(run_lights_off(dataset, onnx, config, span), 51, span);
+}
+
+// KITTI 01 at 3 % of the light with 2 DN of read noise for 1 s (frames 20-29): SuperPoint still finds 100-150
+// corners per dark frame, but their descriptors have drifted so far that the first one keeps a single NN match to
+// the bright keyframe, and the frames after it match only each other, without map points. Matched to the local
+// map's points near their projections (tracking.point_projection, an option), every dark frame is tracked;
+// without, the whole stretch is lost.
+TEST(RelocalisationData, KittiDimFramesAreTrackedOnTheMapsPointsByProjection) {
+  VKVO_REQUIRE_DATA(dataset, "datasets/kitti_seq01_f000-050/KITTI_sequence_2");
+  VKVO_REQUIRE_DATA(onnx, "models/superpoint_v1.onnx");
+  auto config = load_vo_config(test::source_dir() / "config" / "kitti.yaml");
+  config.tracking.point_projection.enabled = true;
+  const Span span{20, 29};
+  const auto dir = test::temp_dir("dim_projection");
+  test::RealSuperPoint superpoint(onnx, config, dir);
+  auto dim = synth::make_event(synth::EventKind::lights_off, span.first, span.last);
+  dim.gain = 0.03;
+  const fs::path input = test::perturbed_copy(dataset, {dim}, dir / "input", {.noise_sigma = 2.0, .seed = 1});
+  VoConfig without = config;
+  without.tracking.point_projection.enabled = false;
+  const test::VoRun on = superpoint.run(input, config, dir / "on");
+  const test::VoRun off = superpoint.run(input, without, dir / "off");
+  const auto untracked_in_span = [&](const test::VoRun& run) {
+    return std::count_if(run.result.untracked_frames.begin(), run.result.untracked_frames.end(), [&](std::size_t f) {
+      return static_cast<int>(f) >= span.first && static_cast<int>(f) <= span.last;
+    });
+  };
+  spdlog::info("KITTI 3 % for frames 20-29: untracked there {} with projection, {} without; ATE {:.3f} / {:.3f} m",
+               untracked_in_span(on), untracked_in_span(off), on.evaluation.ate.translation_m.rmse,
+               off.evaluation.ate.translation_m.rmse);
+  EXPECT_EQ(on.result.frames, 51u);
+  EXPECT_EQ(untracked_in_span(on), 0) << "every dark frame tracked";
+  EXPECT_GE(untracked_in_span(off), 5) << "the input does not test the projection";
 }
 
 // A kidnap on EuRoC MH_01: frames 60-99 never reach the VO, so frame 100 shows the camera 2 s later, elsewhere
