@@ -30,12 +30,11 @@ PointProjectionParams load_point_projection_params(const YAML::Node& section) {
 
 std::vector<ProjectedPointMatch> match_points_by_projection(const map::Map& map, const std::vector<map::Id>& window,
                                                             const KeyframeFeatures& keyframe_features,
-                                                            const features::PointFeatures& frame,
-                                                            const Eigen::Isometry3d& T_world_camera,
-                                                            const std::vector<bool>& taken,
-                                                            const std::vector<map::Id>& tracked,
+                                                            const PointProjectionQuery& query,
                                                             const geometry::PinholeCamera& camera,
                                                             const PointProjectionParams& params) {
+  const features::PointFeatures& frame = query.features;
+  const std::vector<bool>& taken = query.taken;
   if (frame.size() == 0 || frame.descriptors.rows() == 0) return {};
   // The views whose descriptors a map point may be recognised by: its keyframes in the window that kept features.
   std::map<map::Id, const features::PointFeatures*> views;
@@ -43,14 +42,14 @@ std::vector<ProjectedPointMatch> match_points_by_projection(const map::Map& map,
     if (const features::PointFeatures* f = map.keyframe(kf_id) ? keyframe_features(kf_id) : nullptr;
         f && f->descriptors.cols() == frame.descriptors.cols())
       views.emplace(kf_id, f);
-  const std::set<map::Id> already(tracked.begin(), tracked.end());
+  const std::set<map::Id> already(query.tracked.begin(), query.tracked.end());
   std::set<map::Id> candidates;
   for (const auto& [kf_id, f] : views)
     for (const map::Id id : map.keyframe(kf_id)->point_ids)
       if (const map::MapPoint* p = id == map::kInvalidId ? nullptr : map.point(id); p && !p->bad && !already.count(id))
         candidates.insert(id);
 
-  const Eigen::Isometry3d T_camera_world = T_world_camera.inverse();
+  const Eigen::Isometry3d T_camera_world = query.T_world_camera.inverse();
   const double radius_squared = params.radius_px * params.radius_px;
   // A keypoint's distance to a map point: to the closest of the point's views (the light may have changed since
   // some of them).

@@ -282,7 +282,7 @@ int Tracker::add_projected_points(const FrameInput& input, const Tracked& curren
   const map::Id anchor = map_.keyframe(reference_keyframe) ? reference_keyframe : map_.last_keyframe_id();
   const auto projected = match_points_by_projection(
       map_, map_.local_window(anchor, config_.optimization.window_size),
-      [this](map::Id kf) { return relocaliser_.features(kf); }, input.points, pose, taken, tracked, stereo_.camera,
+      [this](map::Id kf) { return relocaliser_.features(kf); }, {pose, input.points, taken, tracked}, stereo_.camera,
       config_.tracking.point_projection);
   timing.add(Module::PM, watch.ms());
   if (projected.empty()) return 0;

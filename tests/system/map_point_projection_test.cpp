@@ -46,7 +46,8 @@ features::PointFeatures features_of(const std::vector<Eigen::Vector2d>& pixels,
 }
 
 // Keyframe `old` at the origin and keyframe `recent` 0.1 m to the right see 24 points on a wall 3-4 m away; each
-// view has its own descriptor (`old_view`, `recent_view` 0.8 from it: the light changed between them). The frame is at T_frame.
+// view has its own descriptor (`old_view`, `recent_view` 0.8 from it: the light changed between them). The frame
+// is at T_frame.
 struct MappedPoints {
   MappedPoints() {
     T_frame.linear() = Eigen::AngleAxisd(0.04, Eigen::Vector3d::UnitY()).toRotationMatrix();
@@ -89,7 +90,7 @@ struct MappedPoints {
       const auto it = kept.find(kf);
       return it == kept.end() ? nullptr : &it->second;
     };
-    return match_points_by_projection(map, window, features, frame, T_frame, taken, tracked, camera, params);
+    return match_points_by_projection(map, window, features, {T_frame, frame, taken, tracked}, camera, params);
   }
   // Map point of each keypoint in `matches` (kInvalidId: none), for a frame of n keypoints.
   static std::vector<map::Id> by_keypoint(const std::vector<ProjectedPointMatch>& matches, std::size_t n) {
