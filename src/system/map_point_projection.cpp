@@ -28,7 +28,7 @@ PointProjectionParams load_point_projection_params(const YAML::Node& section) {
   return p;
 }
 
-std::vector<ProjectedPointMatch> match_points_by_projection(const map::Map& map, const std::vector<map::Id>& window,
+std::vector<ProjectedPointMatch> match_points_by_projection(const map::Map& map, const std::vector<map::Id>& keyframes,
                                                             const KeyframeFeatures& keyframe_features,
                                                             const PointProjectionQuery& query,
                                                             const geometry::PinholeCamera& camera,
@@ -36,9 +36,9 @@ std::vector<ProjectedPointMatch> match_points_by_projection(const map::Map& map,
   const features::PointFeatures& frame = query.features;
   const std::vector<bool>& taken = query.taken;
   if (frame.size() == 0 || frame.descriptors.rows() == 0) return {};
-  // The views whose descriptors a map point may be recognised by: its keyframes in the window that kept features.
+  // The views whose descriptors a map point may be recognised by: those of the keyframes that kept features.
   std::map<map::Id, const features::PointFeatures*> views;
-  for (const map::Id kf_id : window)
+  for (const map::Id kf_id : keyframes)
     if (const features::PointFeatures* f = map.keyframe(kf_id) ? keyframe_features(kf_id) : nullptr;
         f && f->descriptors.cols() == frame.descriptors.cols())
       views.emplace(kf_id, f);

@@ -2,9 +2,9 @@
 // Tracking the points of the local map when the matches to the reference leave a frame short of them (ORB-SLAM's
 // "search by projection"). The matcher pairs a frame with one image, the reference keyframe or the previous frame,
 // by descriptors alone; in the dark, descriptors drift so far that few pairs pass its global test, and a frame
-// after a lost one has no map points to inherit from its reference. Here the local window's map points are
+// after a lost one has no map points to inherit from its reference. Here the map points of the frame's segment are
 // projected at the frame's pose (the points' estimate, or the prediction) and each takes the keypoint near its
-// projection whose descriptor is closest to one of its views: the window leaves a handful of candidates, so a
+// projection whose descriptor is closest to one of its views: the radius leaves a handful of candidates, so a
 // looser descriptor test (with a margin to the second closest) stays unambiguous.
 #include <functional>
 #include <vector>
@@ -20,9 +20,9 @@ namespace vkvo::system {
 
 // YAML section tracking.point_projection.
 struct PointProjectionParams {
-  // Off by default: it tracks every frame of a 0.5-1 s stretch at 3 % of the light on both clips (10 untracked
-  // before), but those poses and the dark keyframes' landmarks measured no better than bridging the stretch; on
-  // low-texture runs it is within 5 % with lines and up to 2.9x worse without (docs/accuracy.md).
+  // Off by default: it tracks every frame of a 0.5-2 s stretch at 3 % of the light on both clips and keeps KITTI's
+  // 1 s on one map, but it measured 0.75-1.25x the default's ATE there, 0.81-1.06x on six low-texture runs with
+  // lines, and up to 2.9x worse without lines (docs/accuracy.md).
   bool enabled = false;
   // Run when the frame's pose has fewer point inliers than this: relocalisation.min_inliers, the support a pose
   // needs after a loss, so that frames that track well keep exactly the matcher's matches.
@@ -56,9 +56,9 @@ struct PointProjectionQuery {
 };
 
 // One-to-one matches between the query's free keypoints and the usable map points observed by the keyframes of
-// `window` that it does not track yet. A keypoint's distance to a map point is the smallest to the point's views
-// in the window; a keypoint claimed by several map points keeps the closest.
-std::vector<ProjectedPointMatch> match_points_by_projection(const map::Map& map, const std::vector<map::Id>& window,
+// `keyframes` that it does not track yet. A keypoint's distance to a map point is the smallest to the point's views
+// in those keyframes; a keypoint claimed by several map points keeps the closest.
+std::vector<ProjectedPointMatch> match_points_by_projection(const map::Map& map, const std::vector<map::Id>& keyframes,
                                                             const KeyframeFeatures& keyframe_features,
                                                             const PointProjectionQuery& query,
                                                             const geometry::PinholeCamera& camera,

@@ -247,8 +247,8 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
   timing.add(Module::IPE, ipe_watch.ms());
   if (config_.tracking.point_projection.enabled &&
       estimate.num_point_inliers < config_.tracking.point_projection.below_point_inliers)
-    out.projected_points = add_projected_points(input, current, out.reference_keyframe, point_matches, point_of_match,
-                                                line_matches, estimate, timing);
+    out.projected_points =
+        add_projected_points(input, current, point_matches, point_of_match, line_matches, estimate, timing);
   for (const auto& [keypoint, point] : point_of_match) out.map_matched.push_back(keypoint);
   if ((estimate.success || config_.tracking.lines_carry_frames) && config_.tracking.use_lines &&
       config_.line_projection.enabled && !current.frame.lines.empty())
@@ -266,7 +266,7 @@ Tracker::ReferenceTracking Tracker::track_reference(const FrameInput& input, Tra
   return out;
 }
 
-int Tracker::add_projected_points(const FrameInput& input, const Tracked& current, map::Id reference_keyframe,
+int Tracker::add_projected_points(const FrameInput& input, const Tracked& current,
                                   std::vector<backend::PointMatch>& point_matches,
                                   std::vector<std::pair<int, map::Id>>& point_of_match,
                                   const std::vector<backend::LineMatch>& line_matches, backend::PoseEstimate& estimate,
@@ -279,11 +279,14 @@ int Tracker::add_projected_points(const FrameInput& input, const Tracked& curren
     tracked.push_back(point);
   }
   const Eigen::Isometry3d pose = estimate.success ? estimate.T_world_camera : current.frame.T_world_camera;
-  const map::Id anchor = map_.keyframe(reference_keyframe) ? reference_keyframe : map_.last_keyframe_id();
+  // The whole segment's keyframes, not only the co-visible window: after a dark stretch the keyframes that saw the
+  // scene in the light are no longer co-visible with the dark ones (a window left KITTI's 1 s at 3 % split).
+  std::vector<map::Id> keyframes;
+  for (const auto& [id, keyframe] : map_.keyframes())
+    if (keyframe.segment == segment_) keyframes.push_back(id);
   const auto projected = match_points_by_projection(
-      map_, map_.local_window(anchor, config_.optimization.window_size),
-      [this](map::Id kf) { return relocaliser_.features(kf); }, {pose, input.points, taken, tracked}, stereo_.camera,
-      config_.tracking.point_projection);
+      map_, keyframes, [this](map::Id kf) { return relocaliser_.features(kf); }, {pose, input.points, taken, tracked},
+      stereo_.camera, config_.tracking.point_projection);
   timing.add(Module::PM, watch.ms());
   if (projected.empty()) return 0;
 

@@ -132,10 +132,10 @@ class Tracker {
   Tracked make_frame(const FrameInput& input, const Eigen::Isometry3d& pose, TimingReport& timing) const;
   TrackResult initialise(const FrameInput& input, Tracked& current, TimingReport& timing);
   ReferenceTracking track_reference(const FrameInput& input, Tracked& current, TimingReport& timing);
-  // The local map's points near their projections at `estimate` (or at the prediction where it failed), for a
+  // The segment's map points near their projections at `estimate` (or at the prediction where it failed), for a
   // frame whose points fall short (map_point_projection.hpp): they join the point matches and the pose is
   // estimated again; kept when it gains support. Returns how many joined (0: nothing changed).
-  int add_projected_points(const FrameInput& input, const Tracked& current, map::Id reference_keyframe,
+  int add_projected_points(const FrameInput& input, const Tracked& current,
                            std::vector<backend::PointMatch>& point_matches,
                            std::vector<std::pair<int, map::Id>>& point_of_match,
                            const std::vector<backend::LineMatch>& line_matches, backend::PoseEstimate& estimate,

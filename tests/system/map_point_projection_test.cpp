@@ -84,13 +84,13 @@ struct MappedPoints {
   }
   std::vector<ProjectedPointMatch> match(const features::PointFeatures& frame, const std::vector<bool>& taken = {},
                                          const std::vector<map::Id>& tracked = {},
-                                         std::vector<map::Id> window = {}) const {
-    if (window.empty()) window = {recent};  // the old view only where a test names it
+                                         std::vector<map::Id> keyframes = {}) const {
+    if (keyframes.empty()) keyframes = {recent};  // the old view only where a test names it
     const KeyframeFeatures features = [this](map::Id kf) {
       const auto it = kept.find(kf);
       return it == kept.end() ? nullptr : &it->second;
     };
-    return match_points_by_projection(map, window, features, {T_frame, frame, taken, tracked}, camera, params);
+    return match_points_by_projection(map, keyframes, features, {T_frame, frame, taken, tracked}, camera, params);
   }
   // Map point of each keypoint in `matches` (kInvalidId: none), for a frame of n keypoints.
   static std::vector<map::Id> by_keypoint(const std::vector<ProjectedPointMatch>& matches, std::size_t n) {
@@ -195,10 +195,10 @@ TEST(MapPointProjection, TakenKeypointsTrackedPointsAndPointsOutOfViewAreSkipped
   EXPECT_TRUE(s.match(frame).empty());
 }
 
-TEST(MapPointProjection, APointIsRecognisedByAnyOfItsViewsInTheWindow) {
+TEST(MapPointProjection, APointIsRecognisedByAnyOfItsViews) {
   MappedPoints s;
   // The frame's descriptors resemble the old view (0.05 from it) and lie over 0.5 from the recent one: with both
-  // keyframes in the window every point matches; with the recent keyframe alone none does.
+  // keyframes given every point matches; with the recent keyframe alone none does.
   std::mt19937 rng(5);
   std::vector<Eigen::Vector2d> pixels;
   std::vector<Descriptor> descriptors;

@@ -153,9 +153,10 @@ TEST(RelocalisationData, KittiLightsOffForTenFramesStaysOnOneMap) {
 // KITTI 01 at 3 % of the light with 2 DN of read noise for 1 s (frames 20-29): SuperPoint still finds 100-150
 // corners per dark frame, but their descriptors have drifted so far that the first one keeps a single NN match to
 // the bright keyframe, and the frames after it match only each other, without map points. Matched to the local
-// map's points near their projections (tracking.point_projection, an option), every dark frame is tracked;
-// without, the whole stretch is lost.
-TEST(RelocalisationData, KittiDimFramesAreTrackedOnTheMapsPointsByProjection) {
+// map's points near their projections (tracking.point_projection, an option), every dark frame is tracked, and
+// the first bright frame after them finds the points mapped before the dark, so the map stays one segment;
+// without, the whole stretch is lost and the map splits.
+TEST(RelocalisationData, KittiDimFramesAreTrackedOnTheMapsPointsByProjectionOnOneMap) {
   VKVO_REQUIRE_DATA(dataset, "datasets/kitti_seq01_f000-050/KITTI_sequence_2");
   VKVO_REQUIRE_DATA(onnx, "models/superpoint_v1.onnx");
   auto config = load_vo_config(test::source_dir() / "config" / "kitti.yaml");
@@ -175,12 +176,16 @@ TEST(RelocalisationData, KittiDimFramesAreTrackedOnTheMapsPointsByProjection) {
       return static_cast<int>(f) >= span.first && static_cast<int>(f) <= span.last;
     });
   };
-  spdlog::info("KITTI 3 % for frames 20-29: untracked there {} with projection, {} without; ATE {:.3f} / {:.3f} m",
-               untracked_in_span(on), untracked_in_span(off), on.evaluation.ate.translation_m.rmse,
-               off.evaluation.ate.translation_m.rmse);
+  spdlog::info(
+      "KITTI 3 % for frames 20-29: untracked there {} with projection, {} without; segments {} / {}; ATE {:.3f} / "
+      "{:.3f} m",
+      untracked_in_span(on), untracked_in_span(off), on.result.segments, off.result.segments,
+      on.evaluation.ate.translation_m.rmse, off.evaluation.ate.translation_m.rmse);
   EXPECT_EQ(on.result.frames, 51u);
   EXPECT_EQ(untracked_in_span(on), 0) << "every dark frame tracked";
+  EXPECT_EQ(on.result.segments, 1) << "the frame where the light returns found the map seen before the dark";
   EXPECT_GE(untracked_in_span(off), 5) << "the input does not test the projection";
+  EXPECT_GT(off.result.segments, 1);
 }
 
 // A kidnap on EuRoC MH_01: frames 60-99 never reach the VO, so frame 100 shows the camera 2 s later, elsewhere
