@@ -1,5 +1,5 @@
 #pragma once
-// Tracking the points of the local map when the matches to the reference leave a frame short of them (ORB-SLAM's
+// Tracking the map's points when the matches to the reference leave a frame short of them (ORB-SLAM's
 // "search by projection"). The matcher pairs a frame with one image, the reference keyframe or the previous frame,
 // by descriptors alone; in the dark, descriptors drift so far that few pairs pass its global test, and a frame
 // after a lost one has no map points to inherit from its reference. Here the map points of the frame's segment are
