@@ -20,13 +20,13 @@ namespace vkvo::system {
 
 // YAML section tracking.point_projection.
 struct PointProjectionParams {
-  // Off by default: it tracks every frame of a 0.5-2 s stretch at 3 % of the light on both clips and keeps KITTI's
-  // 1 s on one map, but it measured 0.75-1.25x the default's ATE there, 0.81-1.06x on six low-texture runs with
-  // lines, and up to 2.9x worse without lines (docs/accuracy.md).
-  bool enabled = false;
-  // Run when the frame's pose has fewer point inliers than this: relocalisation.min_inliers, the support a pose
-  // needs after a loss, so that frames that track well keep exactly the matcher's matches.
-  int below_point_inliers = 30;
+  // On, for frames whose points alone could not carry a pose: that keeps every frame of a 0.5-2 s stretch at 3 %
+  // of the light tracked and KITTI's 1 s on one map. Run on frames with fewer inliers (30), it cost the clean
+  // low-texture runs (docs/accuracy.md).
+  bool enabled = true;
+  // Run when the frame's pose has fewer point inliers than this: optimization.min_pose_inliers, so that only frames
+  // that points alone would lose are searched, and frames that track keep exactly the matcher's matches.
+  int below_point_inliers = 10;
   // A keypoint within this distance of the projection is a candidate [px] (not tuned).
   double radius_px = 10.0;
   // 1 - cosine similarity of the unit descriptors: twice the NN matcher's 0.245, since position already narrows

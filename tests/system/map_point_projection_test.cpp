@@ -236,7 +236,9 @@ TEST(MapPointProjection, ConfigKeysAndErrors) {
   EXPECT_DOUBLE_EQ(p.radius_px, 6.0);
   EXPECT_DOUBLE_EQ(p.max_cosine_distance, 0.4);
   EXPECT_DOUBLE_EQ(p.max_ratio, 0.8);
-  EXPECT_FALSE(load_tracking_params(YAML::Load("{}")).point_projection.enabled);
+  const PointProjectionParams defaults = load_tracking_params(YAML::Load("{}")).point_projection;
+  EXPECT_TRUE(defaults.enabled);
+  EXPECT_EQ(defaults.below_point_inliers, 10);
   EXPECT_EQ(load_tracking_params(YAML::Load("{point_projection: {radius_px: 4}}")).point_projection.radius_px, 4.0);
   for (const char* bad : {"{radius_px: 0}", "{max_cosine_distance: 0}", "{max_cosine_distance: 2.5}", "{max_ratio: 0}",
                           "{max_ratio: 1.5}", "{below_point_inliers: -1}", "[1, 2]"})

@@ -153,14 +153,14 @@ TEST(RelocalisationData, KittiLightsOffForTenFramesStaysOnOneMap) {
 // KITTI 01 at 3 % of the light with 2 DN of read noise for 1 s (frames 20-29): SuperPoint still finds 100-150
 // corners per dark frame, but their descriptors have drifted so far that the first one keeps a single NN match to
 // the bright keyframe, and the frames after it match only each other, without map points. Matched to the local
-// map's points near their projections (tracking.point_projection, an option), every dark frame is tracked, and
+// map's points near their projections (tracking.point_projection, on by default), every dark frame is tracked, and
 // the first bright frame after them finds the points mapped before the dark, so the map stays one segment;
 // without, the whole stretch is lost and the map splits.
 TEST(RelocalisationData, KittiDimFramesAreTrackedOnTheMapsPointsByProjectionOnOneMap) {
   VKVO_REQUIRE_DATA(dataset, "datasets/kitti_seq01_f000-050/KITTI_sequence_2");
   VKVO_REQUIRE_DATA(onnx, "models/superpoint_v1.onnx");
-  auto config = load_vo_config(test::source_dir() / "config" / "kitti.yaml");
-  config.tracking.point_projection.enabled = true;
+  const auto config = load_vo_config(test::source_dir() / "config" / "kitti.yaml");
+  ASSERT_TRUE(config.tracking.point_projection.enabled) << "the shipped config tracks dark frames by projection";
   const Span span{20, 29};
   const auto dir = test::temp_dir("dim_projection");
   test::RealSuperPoint superpoint(onnx, config, dir);
