@@ -34,7 +34,7 @@ struct TrackingParams {
   // pose the points gave, or the prediction) and tracked when points and lines together suffice; the keyframe
   // rule's min_tracked counts its tracked lines too, so such a frame adds landmarks where they are running out.
   bool lines_carry_frames = true;
-  // Optionally, a frame whose points fall short is also matched to the map's points near their projections
+  // A frame whose points fall short of a pose is also matched to its segment's map points near their projections
   // (key point_projection, map_point_projection.hpp).
   PointProjectionParams point_projection;
   // The two counts above are for images of this many pixels (EuRoC, 752 x 480);
