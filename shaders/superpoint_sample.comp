@@ -2,16 +2,20 @@
 // Final SuperPoint outputs for the top-k keypoints (one workgroup per output slot): keypoint (x, y) in pixels,
 // score, and the descriptor sampled bilinearly from the L2-normalised dense map with SuperGlue's convention
 // (grid_sample, align_corners, zero padding, keypoint shifted by s/2 - 0.5 and scaled by W8 - s/2 - 0.5), then
-// L2-normalised again.
+// L2-normalised again. With p.subpixel the keypoint moves to the peak of the parabola through the log of its score and
+// its two neighbours' (a Gaussian peak, as the softmax's logits suggest; it follows a known shift more closely than
+// a parabola through the scores: docs/accuracy.md), in x and in y, at most half a pixel. The descriptor stays
+// sampled at the pixel NMS chose.
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 layout(std430, binding = 0) readonly buffer Candidates { uvec2 candidates[]; };
 layout(std430, binding = 1) readonly buffer Counter { uint candidate_count; };
 layout(std430, binding = 2) readonly buffer Order { uint order[]; };
-layout(std430, binding = 3) readonly buffer Dense { float dense[]; };  // D x Hc x Wc
-layout(std430, binding = 4) writeonly buffer Keypoints { vec2 keypoints[]; };
-layout(std430, binding = 5) writeonly buffer Scores { float out_scores[]; };
-layout(std430, binding = 6) writeonly buffer Descriptors { float descriptors[]; };  // k x D
+layout(std430, binding = 3) readonly buffer ScoreMap { float score_map[]; };  // (Hc*8) x (Wc*8), before NMS
+layout(std430, binding = 4) readonly buffer Dense { float dense[]; };          // D x Hc x Wc
+layout(std430, binding = 5) writeonly buffer Keypoints { vec2 keypoints[]; };
+layout(std430, binding = 6) writeonly buffer Scores { float out_scores[]; };
+layout(std430, binding = 7) writeonly buffer Descriptors { float descriptors[]; };  // k x D
 
 #include "push/sample.h"
 
@@ -21,6 +25,21 @@ shared float partial[64];
 float tap(uint c, int y, int x) {
   if (x < 0 || y < 0 || x >= int(p.cells_w) || y >= int(p.cells_h)) return 0.0;
   return dense[(c * p.cells_h + uint(y)) * p.cells_w + uint(x)];
+}
+
+// Offset of the vertex of the parabola through (-1, s.x), (0, s.y), (1, s.z); 0 where the three are not concave.
+float parabola_peak(vec3 s) {
+  const float curvature = s.x - 2.0 * s.y + s.z;
+  return curvature < 0.0 ? clamp(0.5 * (s.x - s.z) / curvature, -0.5, 0.5) : 0.0;
+}
+
+vec2 subpixel_offset(uint x, uint y, uint width, uint height) {
+  if (x == 0u || y == 0u || x + 1u >= width || y + 1u >= height) return vec2(0.0);
+  const uint i = y * width + x;
+  const float floor_score = 1e-30;  // a softmax that underflowed to 0 would make the log infinite
+  const vec3 across = max(vec3(score_map[i - 1u], score_map[i], score_map[i + 1u]), floor_score);
+  const vec3 down = max(vec3(score_map[i - width], score_map[i], score_map[i + width]), floor_score);
+  return vec2(parabola_peak(log(across)), parabola_peak(log(down)));
 }
 
 void main() {
@@ -58,7 +77,7 @@ void main() {
     descriptors[k * p.dim + c] = v * inv;
   }
   if (lid == 0u) {
-    keypoints[k] = kp;
+    keypoints[k] = p.subpixel != 0u ? kp + subpixel_offset(cand.x % width, cand.x / width, width, p.cells_h * 8u) : kp;
     out_scores[k] = uintBitsToFloat(cand.y);
   }
 }

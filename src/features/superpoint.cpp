@@ -28,6 +28,7 @@ SuperPointParams load_superpoint_params(const YAML::Node& section) {
   io::read_param(section, "nms_radius", params.nms_radius);
   io::read_param(section, "remove_borders", params.remove_borders);
   io::read_param(section, "max_keypoints", params.max_keypoints);
+  io::read_param(section, "subpixel", params.subpixel);
   std::string precision = "auto";
   io::read_param(section, "precision", precision);
   if (precision == "auto") {

@@ -12,10 +12,13 @@
 namespace vkvo::features {
 
 struct SuperPointParams {
-  float keypoint_threshold = 0.005f;       // on the softmax score (>= 0)
-  int nms_radius = 4;                      // max-pool NMS window is (2r+1) x (2r+1)
-  int remove_borders = 4;                  // pixels dropped at every side of the dense score map
-  int max_keypoints = 400;                 // top-k by score; <= 0 keeps every keypoint
+  float keypoint_threshold = 0.005f;  // on the softmax score (>= 0)
+  int nms_radius = 4;                 // max-pool NMS window is (2r+1) x (2r+1)
+  int remove_borders = 4;             // pixels dropped at every side of the dense score map
+  int max_keypoints = 400;            // top-k by score; <= 0 keeps every keypoint
+  // Keypoints at the sub-pixel peak of the score map (a parabola through each and its neighbours, per axis) rather
+  // than on the pixel grid: stereo disparities stop being whole pixels. Off reproduces the reference network.
+  bool subpixel = false;
   std::optional<rt::Precision> precision;  // nullopt: the device's preferred precision
   // The texel-buffer ("tiled") kernels where the device reads their formats; false runs the storage-buffer
   // kernels every device has (the fallback; tests run the network both ways).
@@ -29,7 +32,7 @@ struct SuperPointParams {
   rt::WinogradTile winograd_tile = rt::WinogradTile::f63;
 };
 
-// YAML section `point_detector`: keypoint_threshold, nms_radius, remove_borders, max_keypoints,
+// YAML section `point_detector`: keypoint_threshold, nms_radius, remove_borders, max_keypoints, subpixel,
 // precision (auto | fp32 | fp16s | fp16), winograd (auto | on | off), winograd_tile (4 | 6). Missing keys keep the
 // defaults; wrong types and values throw naming the key.
 SuperPointParams load_superpoint_params(const YAML::Node& section);

@@ -82,12 +82,13 @@ class OnDevice {
 };
 
 features::SuperPointParams superpoint_params(const std::string& precision, float keypoint_threshold, int nms_radius,
-                                             int remove_borders, int max_keypoints) {
+                                             int remove_borders, int max_keypoints, bool subpixel) {
   features::SuperPointParams params;
   params.keypoint_threshold = keypoint_threshold;
   params.nms_radius = nms_radius;
   params.remove_borders = remove_borders;
   params.max_keypoints = max_keypoints;
+  params.subpixel = subpixel;
   params.precision = precision_argument(precision);
   return params;
 }
@@ -95,9 +96,10 @@ features::SuperPointParams superpoint_params(const std::string& precision, float
 class SuperPointObject {
  public:
   SuperPointObject(const std::optional<fs::path>& model, const py::object& device, const std::string& precision,
-                   float keypoint_threshold, int nms_radius, int remove_borders, int max_keypoints)
-      : superpoint_(device, load_pack(model, "superpoint_v1", io::NetworkKind::superpoint),
-                    superpoint_params(precision, keypoint_threshold, nms_radius, remove_borders, max_keypoints)) {}
+                   float keypoint_threshold, int nms_radius, int remove_borders, int max_keypoints, bool subpixel)
+      : superpoint_(
+            device, load_pack(model, "superpoint_v1", io::NetworkKind::superpoint),
+            superpoint_params(precision, keypoint_threshold, nms_radius, remove_borders, max_keypoints, subpixel)) {}
 
   py::tuple detect(const py::handle& image, bool dense) {
     const ImageArgument input = image_argument(image, "SuperPoint.detect image");
@@ -195,11 +197,14 @@ model: a .vkvopack, or an .onnx (converted once into the cache, as `vkvo run` do
 device: None ($VKVO_DEVICE, else the best device), an index or a name substring (vkvo.devices()).
 precision: "auto" (the device's preferred), "fp32", "fp16s" (16-bit storage) or "fp16".
 The post-processing parameters default to the reference's (threshold 0.005, NMS radius 4, border 4, top 400;
-max_keypoints <= 0 keeps every keypoint).)")
-      .def(py::init<const std::optional<fs::path>&, const py::object&, const std::string&, float, int, int, int>(),
-           py::arg("model") = py::none(), py::arg("device") = py::none(), py::arg("precision") = "auto",
-           py::arg("keypoint_threshold") = sp.keypoint_threshold, py::arg("nms_radius") = sp.nms_radius,
-           py::arg("remove_borders") = sp.remove_borders, py::arg("max_keypoints") = sp.max_keypoints)
+max_keypoints <= 0 keeps every keypoint). subpixel=True moves each keypoint to the score map's sub-pixel peak
+(as the VO configs do); the default keeps the reference's whole pixels.)")
+      .def(
+          py::init<const std::optional<fs::path>&, const py::object&, const std::string&, float, int, int, int, bool>(),
+          py::arg("model") = py::none(), py::arg("device") = py::none(), py::arg("precision") = "auto",
+          py::arg("keypoint_threshold") = sp.keypoint_threshold, py::arg("nms_radius") = sp.nms_radius,
+          py::arg("remove_borders") = sp.remove_borders, py::arg("max_keypoints") = sp.max_keypoints,
+          py::arg("subpixel") = sp.subpixel)
       .def("detect", &SuperPointObject::detect, py::arg("image"), py::arg("dense") = false,
            R"(Keypoints of one image: numpy uint8, (H, W) grey or (H, W, 3) BGR, any strides, at least 16 x 16.
 

@@ -43,10 +43,10 @@ std::string detector_identity(const rt::Context& context, const io::ModelPack& s
   const auto weights = superpoint.data_block();
   const auto& p = config.point_detector;
   return fmt::format(
-      "superpoint weights {:016x} ({} bytes) | threshold {} nms {} borders {} max {} | precision {} | "
+      "superpoint weights {:016x} ({} bytes) | threshold {} nms {} borders {} max {} subpixel {} | precision {} | "
       "tiled {} winograd {} tile {} | device {}",
       std::hash<std::string_view>{}(std::string_view(reinterpret_cast<const char*>(weights.data()), weights.size())),
-      weights.size(), p.keypoint_threshold, p.nms_radius, p.remove_borders, p.max_keypoints,
+      weights.size(), p.keypoint_threshold, p.nms_radius, p.remove_borders, p.max_keypoints, p.subpixel,
       p.precision ? rt::to_string(*p.precision) : "auto", p.tiled_kernels, static_cast<int>(p.winograd),
       static_cast<int>(p.winograd_tile), context.caps().name);
 }

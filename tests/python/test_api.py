@@ -85,6 +85,29 @@ def test_superpoint_outputs_agree_with_its_dense_maps(superpoint):
     assert_same_features(superpoint.detect(image), (keypoints, scores, descriptors))
 
 
+def test_superpoint_subpixel_moves_keypoints_to_the_log_score_peak(random_packs, superpoint):
+    image = textured_image(96, 120, seed=3)
+    whole, scores, descriptors, dense_scores, _ = superpoint.detect(image, dense=True)
+    fine = vkvo.SuperPoint(random_packs / "random_superpoint.vkvopack", precision="fp32", subpixel=True)
+    keypoints, fine_scores, fine_descriptors = fine.detect(image)
+    # Same keypoints, scores and descriptors; each position moved by the vertex of the parabola through the log
+    # scores of the pixel and its two neighbours, per axis, at most half a pixel.
+    np.testing.assert_array_equal(fine_scores, scores)
+    np.testing.assert_array_equal(fine_descriptors, descriptors)
+    log = np.log(np.maximum(dense_scores.astype(np.float64), 1e-30))
+    x, y = whole[:, 0].astype(int), whole[:, 1].astype(int)
+
+    def vertex(left, centre, right):
+        curvature = left - 2 * centre + right
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(curvature < 0, np.clip(0.5 * (left - right) / curvature, -0.5, 0.5), 0.0)
+
+    expected = whole + np.stack([vertex(log[y, x - 1], log[y, x], log[y, x + 1]),
+                                 vertex(log[y - 1, x], log[y, x], log[y + 1, x])], axis=1)
+    np.testing.assert_allclose(keypoints, expected, atol=1e-4)
+    assert np.mean(np.any(keypoints != whole, axis=1)) > 0.5, "most peaks lie between pixels"
+
+
 def test_superpoint_takes_any_layout_and_bgr(superpoint):
     image = textured_image(64, 80, seed=5)
     expected = superpoint.detect(image)

@@ -4,16 +4,19 @@
 //   dense scores max abs error <= 2e-3; dense descriptors cosine >= 0.999 per cell (fp32 and fp16s; fp16 has
 //   wider dense tolerances, see DenseTolerance);
 //   >= 95% of reference keypoints found within 1 px; descriptor cosine >= 0.995 for those matches.
-// Also: the same image at 25% brightness keeps >= 70% of its top-400 keypoints within 2 px.
+// Also: the same image at 25% brightness keeps >= 70% of its top-400 keypoints within 2 px; sub-pixel keypoints
+// follow a sub-pixel shift of the image.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <ostream>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "common/gpu.hpp"
 #include "common/test_support.hpp"
@@ -213,6 +216,49 @@ TEST(SuperPointRobustness, DarkImageKeepsKeypoints) {
   std::size_t kept = 0;
   for (const auto& k : bright.keypoints) kept += nearest(k, dim.keypoints, 2.0f) >= 0;
   EXPECT_GE(double(kept) / bright.size(), 0.70) << kept << " of " << bright.size();
+}
+
+// Sub-pixel keypoints: the image shifted by -(0.25, 0.15) and by +(0.25, 0.15) px (bilinear, so both are blurred
+// alike) moves its keypoints by (0.5, 0.3) px. The median displacement of the keypoints found in both within 1.5 px
+// must come within 0.2 px of it on each axis (measured on lavapipe: 0.38 / 0.26 px); whole pixels move by 0.
+TEST(SuperPointSubpixel, KeypointsFollowASubpixelShift) {
+  VKVO_REQUIRE_DATA(onnx, "models/superpoint_v1.onnx");
+  VKVO_REQUIRE_DATA(dir, "golden/superpoint/euroc_0000");
+  const cv::Mat image = cv::imread((dir / "image.png").string(), cv::IMREAD_GRAYSCALE);
+  const Eigen::Vector2f shift(0.5f, 0.3f);
+  const auto shifted = [&](float sign) {
+    const cv::Matx23f translate(1, 0, sign * shift.x() / 2, 0, 1, sign * shift.y() / 2);
+    cv::Mat out;
+    cv::warpAffine(image, out, translate, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+    return out;
+  };
+  const cv::Mat before = shifted(-1.0f), after = shifted(1.0f);
+  const auto median_shift = [&](bool subpixel) {
+    SuperPointParams params;
+    params.subpixel = subpixel;
+    params.precision = test::gpu().profile().precision;
+    SuperPoint sp(test::gpu(), superpoint_pack(onnx), params);
+    const PointFeatures a = sp.detect(before), b = sp.detect(after);
+    std::vector<float> dx, dy;
+    for (const auto& k : a.keypoints) {
+      const int j = nearest(k + shift, b.keypoints, 1.5f);
+      if (j < 0) continue;
+      dx.push_back(b.keypoints[j].x() - k.x());
+      dy.push_back(b.keypoints[j].y() - k.y());
+    }
+    EXPECT_GT(dx.size(), 200u) << "most keypoints are found again";
+    const auto median = [](std::vector<float> v) {
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    return Eigen::Vector2f(median(dx), median(dy));
+  };
+  const Eigen::Vector2f subpixel = median_shift(true), whole = median_shift(false);
+  EXPECT_NEAR(subpixel.x(), shift.x(), 0.2f);
+  EXPECT_NEAR(subpixel.y(), shift.y(), 0.2f);
+  EXPECT_GT((whole - shift).cwiseAbs().maxCoeff(), 0.2f) << "whole pixels cannot follow the shift";
+  std::cout << "median keypoint shift, true (0.5, 0.3): sub-pixel (" << subpixel.transpose() << "), whole pixels ("
+            << whole.transpose() << ")\n";
 }
 
 }  // namespace

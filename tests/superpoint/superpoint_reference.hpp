@@ -165,9 +165,26 @@ inline std::vector<float> sample_descriptor(const std::vector<float>& dense, int
   return v;
 }
 
-// Threshold, border removal, top-k (ties: lower pixel index first), bilinear descriptor sampling + L2 norm.
+// The vertex of the parabola through (-1, left), (0, centre), (1, right), clamped to half a pixel; 0 where centre is
+// no strict peak of the three.
+inline double parabola_peak(double left, double centre, double right) {
+  const double curvature = left - 2 * centre + right;
+  return curvature < 0 ? std::clamp(0.5 * (left - right) / curvature, -0.5, 0.5) : 0.0;
+}
+
+// Keypoint (x, y) of a w x h score map moved to its sub-pixel peak: one parabola per axis through the log scores
+// (a Gaussian peak), not at the map's edge.
+inline Eigen::Vector2f subpixel_peak(const std::vector<float>& scores, int w, int h, int x, int y) {
+  if (x < 1 || y < 1 || x >= w - 1 || y >= h - 1) return {float(x), float(y)};
+  const auto at = [&](int xx, int yy) { return std::log(std::max(double(scores[std::size_t(yy) * w + xx]), 1e-30)); };
+  return {float(x + parabola_peak(at(x - 1, y), at(x, y), at(x + 1, y))),
+          float(y + parabola_peak(at(x, y - 1), at(x, y), at(x, y + 1)))};
+}
+
+// Threshold, border removal, top-k (ties: lower pixel index first), bilinear descriptor sampling + L2 norm at the
+// whole pixel; `subpixel` then moves each keypoint to its sub-pixel peak.
 inline Keypoints postprocess(const Dense& d, float threshold, int radius, int border, int max_keypoints,
-                             int dim = 256) {
+                             bool subpixel = false, int dim = 256) {
   const int h = d.cells_h * 8, w = d.cells_w * 8;
   const auto nms = simple_nms(d.scores, h, w, radius);
   std::vector<int> idx;
@@ -181,7 +198,7 @@ inline Keypoints postprocess(const Dense& d, float threshold, int radius, int bo
   Keypoints k;
   for (int i : idx) {
     const float x = float(i % w), y = float(i / w);
-    k.xy.emplace_back(x, y);
+    k.xy.push_back(subpixel ? subpixel_peak(d.scores, w, h, i % w, i / w) : Eigen::Vector2f(x, y));
     k.scores.push_back(d.scores[i]);
     k.descriptors.push_back(sample_descriptor(d.descriptors, d.cells_h, d.cells_w, x, y, dim));
   }

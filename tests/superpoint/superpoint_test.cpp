@@ -151,30 +151,49 @@ TEST_P(SuperPointRandom, PostProcessingMatchesReference) {
   struct Setting {
     float threshold;
     int radius, border, max_keypoints;
+    bool subpixel;
   };
-  const Setting settings[] = {
-      {0.005f, 4, 4, 400}, {0.02f, 2, 7, 25}, {0.0f, 1, 0, -1}, {0.002f, 5, 1, 200}, {0.0f, 9, 0, -1}};
+  const Setting settings[] = {{0.005f, 4, 4, 400, false}, {0.02f, 2, 7, 25, false}, {0.0f, 1, 0, -1, false},
+                              {0.002f, 5, 1, 200, false}, {0.0f, 9, 0, -1, false},  {0.005f, 4, 4, 400, true},
+                              {0.0f, 1, 0, -1, true}};
   for (const bool tiled : {true, false}) {
     for (const Setting s : settings) {
-      SuperPointParams params{s.threshold, s.radius, s.border, s.max_keypoints, GetParam()};
-      params.tiled_kernels = tiled;
+      const SuperPointParams params{.keypoint_threshold = s.threshold,
+                                    .nms_radius = s.radius,
+                                    .remove_borders = s.border,
+                                    .max_keypoints = s.max_keypoints,
+                                    .subpixel = s.subpixel,
+                                    .precision = GetParam(),
+                                    .tiled_kernels = tiled};
       SuperPoint sp(gpu(), pack, params);
       const cv::Mat image = random_image(101, 67, 5);  // dense 96 x 64
       SuperPointDense dense;
       const PointFeatures got = sp.detect(image, &dense);
       const reference::Dense d{dense.cells_h, dense.cells_w, dense.scores, dense.descriptors};
-      const reference::Keypoints want = reference::postprocess(d, s.threshold, s.radius, s.border, s.max_keypoints);
+      const reference::Keypoints want =
+          reference::postprocess(d, s.threshold, s.radius, s.border, s.max_keypoints, s.subpixel);
       SCOPED_TRACE(::testing::Message() << (tiled ? "texel" : "storage-buffer") << " NMS, threshold " << s.threshold
-                                        << " radius " << s.radius << " border " << s.border << " k "
-                                        << s.max_keypoints);
+                                        << " radius " << s.radius << " border " << s.border << " k " << s.max_keypoints
+                                        << (s.subpixel ? " sub-pixel" : ""));
       ASSERT_GT(want.xy.size(), 5u) << "the test image must produce keypoints";
       ASSERT_EQ(got.size(), want.xy.size());
       EXPECT_EQ(got.descriptors.cols(), 256);
+      int moved = 0;
       for (std::size_t i = 0; i < got.size(); ++i) {
-        ASSERT_EQ(got.keypoints[i], want.xy[i]) << "keypoint " << i;
+        // Sub-pixel peaks: the device's float arithmetic against the reference's double, 1e-4 px.
+        if (s.subpixel) {
+          ASSERT_NEAR(got.keypoints[i].x(), want.xy[i].x(), 1e-4f) << "keypoint " << i;
+          ASSERT_NEAR(got.keypoints[i].y(), want.xy[i].y(), 1e-4f) << "keypoint " << i;
+          moved += got.keypoints[i] != got.keypoints[i].array().round().matrix();
+        } else {
+          ASSERT_EQ(got.keypoints[i], want.xy[i]) << "keypoint " << i;
+        }
         ASSERT_EQ(got.scores[i], want.scores[i]) << "keypoint " << i;
         for (int c = 0; c < 256; ++c)
           ASSERT_NEAR(got.descriptors(i, c), want.descriptors[i][c], 1e-5f) << i << "," << c;
+      }
+      if (s.subpixel) {
+        EXPECT_GT(moved, static_cast<int>(got.size()) / 2) << "most peaks lie between pixels";
       }
       if (s.max_keypoints < 0) {
         EXPECT_EQ(sp.last_candidate_count(), got.size()) << "no limit keeps every candidate";
@@ -197,15 +216,37 @@ TEST(SuperPointReference, NmsRecoversSecondaryMaxima) {
   EXPECT_EQ(nms, want);
 }
 
+// The reference's sub-pixel peak is exact on a sampled parabola (a sampled Gaussian for the score map, whose log it
+// fits) and stays within half a pixel otherwise.
+TEST(SuperPointReference, SubpixelPeakOfSampledParabolas) {
+  for (const double peak : {-0.45, -0.2, 0.0, 0.13, 0.38}) {
+    const auto f = [&](double x) { return 0.9 - 0.1 * (x - peak) * (x - peak); };
+    EXPECT_NEAR(reference::parabola_peak(f(-1), f(0), f(1)), peak, 1e-12);
+  }
+  EXPECT_EQ(reference::parabola_peak(0.5, 0.4, 0.1), -0.5) << "a rising edge clamps to half a pixel";
+  EXPECT_EQ(reference::parabola_peak(0.2, 0.2, 0.2), 0.0) << "no peak, no move";
+  // 3 x 3 Gaussian score map peaking at (1.25, 0.9).
+  const auto g = [](double x, double y) {
+    return 0.3 * std::exp(-0.7 * (x - 1.25) * (x - 1.25) - 1.1 * (y - 0.9) * (y - 0.9));
+  };
+  std::vector<float> map(9);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x) map[std::size_t(y) * 3 + x] = float(g(x, y));
+  const Eigen::Vector2f p = reference::subpixel_peak(map, 3, 3, 1, 1);
+  EXPECT_NEAR(p.x(), 1.25f, 1e-5f);
+  EXPECT_NEAR(p.y(), 0.9f, 1e-5f);
+}
+
 TEST(SuperPointParamsTest, LoadsYamlSection) {
   const auto config = io::Config::from_string(
       "point_detector:\n  keypoint_threshold: 0.004\n  nms_radius: 3\n  remove_borders: 8\n  max_keypoints: 500\n"
-      "  precision: fp32\n  winograd: off\n  winograd_tile: 4\n");
+      "  precision: fp32\n  winograd: off\n  winograd_tile: 4\n  subpixel: true\n");
   const SuperPointParams p = load_superpoint_params(config.section("point_detector"));
   EXPECT_FLOAT_EQ(p.keypoint_threshold, 0.004f);
   EXPECT_EQ(p.nms_radius, 3);
   EXPECT_EQ(p.remove_borders, 8);
   EXPECT_EQ(p.max_keypoints, 500);
+  EXPECT_TRUE(p.subpixel);
   ASSERT_TRUE(p.precision.has_value());
   EXPECT_EQ(*p.precision, rt::Precision::fp32);
   EXPECT_EQ(p.winograd, SuperPointParams::Winograd::off);
@@ -216,6 +257,7 @@ TEST(SuperPointParamsTest, LoadsYamlSection) {
   EXPECT_EQ(defaults.nms_radius, 4);
   EXPECT_EQ(defaults.remove_borders, 4);
   EXPECT_EQ(defaults.max_keypoints, 400);
+  EXPECT_FALSE(defaults.subpixel) << "the reference network's whole pixels unless asked";
   EXPECT_FALSE(defaults.precision.has_value());
   EXPECT_EQ(defaults.winograd, SuperPointParams::Winograd::automatic);
   EXPECT_EQ(defaults.winograd_tile, rt::WinogradConv3x3::Tile::f63);

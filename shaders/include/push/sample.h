@@ -11,6 +11,7 @@ VKVO_PUSH_CONSTANTS(SamplePush) {
   uint dim;
   uint capacity;
   uint max_keypoints;
+  uint subpixel;  // 1: keypoints refined to the score map's sub-pixel peak
 } VKVO_PUSH_INSTANCE;
 
 VKVO_SHADER_NAMESPACE_END

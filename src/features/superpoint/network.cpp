@@ -201,6 +201,7 @@ SuperPointPlan::SuperPointPlan(const rt::Context& ctx, const SuperPointNetwork& 
       radius_(static_cast<std::uint32_t>(params.nms_radius)),
       border_(static_cast<std::uint32_t>(std::max(params.remove_borders, 0))),
       threshold_(params.keypoint_threshold),
+      subpixel_(params.subpixel),
       image_(ctx, rt::round_up(std::size_t(width_) * height_, 4), rt::BufferKind::staging, "superpoint.image"),
       dense_scores_(ctx, std::size_t(cells_h_) * cells_w_ * 64 * 4, rt::BufferKind::device, "superpoint.dense_scores"),
       rows_(ctx, dense_scores_.size(), rt::BufferKind::device, "superpoint.nms_rows"),
@@ -368,8 +369,9 @@ void SuperPointPlan::record() {
   }
   seq_.dispatch(net_.rank, {candidates_, counter_, order_}, RankPush{capacity_, max_keypoints_},
                 {rt::groups_for(capacity_, 64)}, "top-k rank");
-  seq_.dispatch(net_.sample, {candidates_, counter_, order_, dense_descriptors_, keypoints_, scores_, descriptors_},
-                SamplePush{cells_h_, cells_w_, dim_, capacity_, max_keypoints_}, {max_keypoints_},
+  seq_.dispatch(net_.sample,
+                {candidates_, counter_, order_, dense_scores_, dense_descriptors_, keypoints_, scores_, descriptors_},
+                SamplePush{cells_h_, cells_w_, dim_, capacity_, max_keypoints_, subpixel_ ? 1u : 0u}, {max_keypoints_},
                 "sample descriptors");
   for (const auto* out : {&*counter_out_, &*keypoints_out_, &*scores_out_, &*descriptors_out_}) out->record(seq_);
   seq_.end();

@@ -125,6 +125,7 @@ class SuperPointPlan {
   std::uint32_t width_, height_, cells_h_, cells_w_, dim_;
   std::uint32_t radius_, border_, capacity_, max_keypoints_;
   float threshold_;
+  bool subpixel_;
   std::deque<rt::Buffer> activations_;  // a deque: record() holds references to earlier ones as it adds more
   rt::Buffer image_, dense_scores_, rows_, mask_, supp_scores_, supp_, candidates_, counter_, order_;
   rt::Buffer dense_descriptors_, keypoints_, scores_, descriptors_;
