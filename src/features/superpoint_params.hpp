@@ -16,8 +16,8 @@ struct SuperPointParams {
   int nms_radius = 4;                 // max-pool NMS window is (2r+1) x (2r+1)
   int remove_borders = 4;             // pixels dropped at every side of the dense score map
   int max_keypoints = 400;            // top-k by score; <= 0 keeps every keypoint
-  // Keypoints at the sub-pixel peak of the score map (a parabola through each and its neighbours, per axis) rather
-  // than on the pixel grid: stereo disparities stop being whole pixels. Off reproduces the reference network.
+  // Keypoints at the sub-pixel peak of the score map (a parabola through the log scores of each and its neighbours,
+  // per axis) rather than on the pixel grid: disparities stop being whole pixels. Off: the reference network's.
   bool subpixel = false;
   std::optional<rt::Precision> precision;  // nullopt: the device's preferred precision
   // The texel-buffer ("tiled") kernels where the device reads their formats; false runs the storage-buffer

@@ -197,8 +197,8 @@ model: a .vkvopack, or an .onnx (converted once into the cache, as `vkvo run` do
 device: None ($VKVO_DEVICE, else the best device), an index or a name substring (vkvo.devices()).
 precision: "auto" (the device's preferred), "fp32", "fp16s" (16-bit storage) or "fp16".
 The post-processing parameters default to the reference's (threshold 0.005, NMS radius 4, border 4, top 400;
-max_keypoints <= 0 keeps every keypoint). subpixel=True moves each keypoint to the score map's sub-pixel peak
-(as the VO configs do); the default keeps the reference's whole pixels.)")
+max_keypoints <= 0 keeps every keypoint). subpixel=True moves each keypoint to the score map's sub-pixel peak;
+the default keeps the reference's whole pixels.)")
       .def(
           py::init<const std::optional<fs::path>&, const py::object&, const std::string&, float, int, int, int, bool>(),
           py::arg("model") = py::none(), py::arg("device") = py::none(), py::arg("precision") = "auto",

@@ -246,7 +246,10 @@ TEST(SuperPointSubpixel, KeypointsFollowASubpixelShift) {
       dx.push_back(b.keypoints[j].x() - k.x());
       dy.push_back(b.keypoints[j].y() - k.y());
     }
-    EXPECT_GT(dx.size(), 200u) << "most keypoints are found again";
+    if (dx.size() <= 200) {
+      ADD_FAILURE() << "only " << dx.size() << " keypoints found again; most should be";
+      return Eigen::Vector2f(Eigen::Vector2f::Constant(std::nanf("")));
+    }
     const auto median = [](std::vector<float> v) {
       std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
       return v[v.size() / 2];
