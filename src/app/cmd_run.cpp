@@ -104,10 +104,10 @@ int run(const Options& o) {
 
   fmt::print(
       "\n{} frames ({} skipped), {} keyframes, {} tracking losses, {} relocalisation(s), {} map segment(s) "
-      "at the end ({} started, {} merged), map: {} points ({} mono), {} lines ({} mono)\n",
+      "at the end ({} started, {} merged, {} rebuilt), map: {} points ({} mono), {} lines ({} mono)\n",
       result.frames, result.frames_skipped, result.keyframes, result.tracking_losses, result.relocalisations,
-      result.segments, result.segments_started, result.merges, result.map_points, result.map_mono_points,
-      result.map_lines, result.map_mono_lines);
+      result.segments, result.segments_started, result.merges, result.segments_rebuilt, result.map_points,
+      result.map_mono_points, result.map_lines, result.map_mono_lines);
   fmt::print("{}", result.timing.table(result.frames, result.wall_seconds));
   fmt::print("trajectory: {}\nframes:     {}\nkeyframes:  {} (refined: {})\nsummary:    {}\nmap:        {}\n",
              result.trajectory.string(), result.frames_file.string(), result.keyframes_file.string(),

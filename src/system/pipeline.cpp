@@ -229,6 +229,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   result.segments_started = odometry.segments_started();
   result.relocalisations = odometry.relocalisations();
   result.merges = odometry.merges();
+  result.segments_rebuilt = odometry.segments_rebuilt();
   result.map_points = map.points().size();
   result.map_lines = map.lines().size();
   result.map_mono_points = count_without_stereo(
@@ -258,6 +259,7 @@ RunResult run_vo(const io::StereoDataset& dataset, const VoConfig& config, Point
   summary["map_segments_started"] = result.segments_started;
   summary["relocalisations"] = result.relocalisations;
   summary["segment_merges"] = result.merges;
+  summary["map_segments_rebuilt"] = result.segments_rebuilt;
   summary["frames_uninitialised"] = result.frames_uninitialised;
   const auto& reloc = odometry.relocalisation_stats();
   summary["relocalisation"] = {{"attempts", reloc.attempts},

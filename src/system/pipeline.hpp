@@ -57,6 +57,7 @@ struct RunResult {
   int segments_started = 0;  // ... started during the run (the first included)
   int relocalisations = 0;   // frames found in the map again after a loss, merges included
   int merges = 0;            // young segments merged into older ones
+  int segments_rebuilt = 0;  // segments started on lines, rebuilt once points sufficed (tracking.rebuild_thin_start)
   std::size_t map_points = 0, map_lines = 0;
   std::size_t map_mono_points = 0;  // map points that no keyframe matched in its right image (map.mono_points)
   std::size_t map_mono_lines = 0;   // ... map lines likewise (from two keyframes, or through two mapped points)

@@ -79,6 +79,7 @@ class StereoOdometry {
   int segments_started() const { return tracker_.segments_started(); }
   int relocalisations() const { return tracker_.relocalisations(); }
   int merges() const { return tracker_.merges(); }
+  int segments_rebuilt() const { return tracker_.segments_rebuilt(); }
   const RelocalisationStats& relocalisation_stats() const { return tracker_.relocalisation_stats(); }
   // The map's keyframes as (frame index, raw left camera pose), in the state the last bundle adjustment left them.
   std::vector<std::pair<std::size_t, Eigen::Isometry3d>> refined_keyframes() const;

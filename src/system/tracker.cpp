@@ -396,6 +396,7 @@ SegmentMerge Tracker::merge_into(const Relocalisation& found, Tracked& current, 
   }
   map_.merge_segment(merge.from, merge.into, merge.T_into_from);
   segment_ = merge.into;
+  segment_started_thin_ = false;  // the segment now holds the older map's landmarks too
 
   // The frame's own landmarks that relocalisation found in the other segment are one landmark mapped twice: fuse
   // them into the other one.
@@ -559,9 +560,11 @@ TrackResult Tracker::track(const FrameInput& input, TimingReport& timing) {
     }
   } else {
     const backend::KeyframeReason reason = backend::keyframe_reason(config_.keyframe, decision);
-    if (force_keyframe || backend::need_new_keyframe(config_.keyframe, decision))
+    if (force_keyframe || backend::need_new_keyframe(config_.keyframe, decision)) {
+      const int rebuilds_before = rebuilds_;
       result.keyframe = add_keyframe(input, current, false, timing);
-    else if (reason == backend::KeyframeReason::tracking_failed && result.note.empty())
+      if (rebuilds_ != rebuilds_before) result.note = fmt::format("map segment {} rebuilt from here", segment_);
+    } else if (reason == backend::KeyframeReason::tracking_failed && result.note.empty())
       result.note = fmt::format("no keyframe: {} tracked points, fewer than {}", result.tracked_points,
                                 config_.keyframe.min_tracked);
   }
@@ -609,6 +612,22 @@ bool Tracker::can_start_segment(const FrameInput& input, int stereo_points, int 
   return false;
 }
 
+bool Tracker::points_can_start_segment(const FrameInput& input, int stereo_points) const {
+  return static_cast<int>(input.points.size()) >= config_.tracking.init_min_keypoints &&
+         stereo_points >= config_.tracking.init_min_stereo;
+}
+
+void Tracker::drop_segment_landmarks() {
+  for (const auto& [id, kf] : map_.keyframes()) {
+    if (kf.segment != segment_) continue;
+    for (const map::Id p : kf.point_ids)
+      if (map::MapPoint* point = map_.point(p)) point->bad = true;
+    for (const map::Id l : kf.line_ids)
+      if (map::MapLine* line = map_.line(l)) line->bad = true;
+  }
+  map_.cull(config_.map);
+}
+
 bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_segment, TimingReport& timing) {
   // The right image's detection, stereo matching and right-image lines are timed under PE, PM and LE, so BA is
   // the keyframe's own work (triangulation, map update, local BA) as in the paper's table.
@@ -626,6 +645,21 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     return false;
   }
   map::Frame& frame = tracked.frame;
+  // A segment started thin (on lines counted as points) is rebuilt from the first keyframe whose points alone could
+  // start it: the landmarks mapped from the thin start are dropped and this keyframe maps its own, as a start would.
+  const bool rebuild = !new_segment && segment_started_thin_ && config_.tracking.rebuild_thin_start &&
+                       points_can_start_segment(input, stereo_points.count);
+  if (rebuild) {
+    drop_segment_landmarks();
+    frame.reset_associations();
+    tracked.reference_point_partner.clear();
+    tracked.reference_line_partner.clear();
+    segment_started_thin_ = false;
+    ++rebuilds_;
+    spdlog::info("frame {}: map segment {} rebuilt from this frame's {} stereo points (it started on lines)",
+                 input.index, segment_, stereo_points.count);
+  }
+  const bool fresh = new_segment || rebuild;  // the keyframe maps from its own stereo pair alone
 
   StereoLines stereo_lines;
   const double keyframe_ms = watch.lap();  // triangulation; the rest of the keyframe's work is added below
@@ -660,7 +694,10 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
   map::KeyFrame& added = map_.add_keyframe(frame);
   added.segment = segment_;
   const map::Id kf_id = added.id;
-  if (new_segment) ++segments_started_;
+  if (new_segment) {
+    ++segments_started_;
+    segment_started_thin_ = !points_can_start_segment(input, stereo_points.count);
+  }
   const Eigen::Isometry3d T = map_.keyframe(kf_id)->T_world_camera;
   int new_points = 0;
   for (std::size_t i = 0; i < stereo_points.positions.size(); ++i) {
@@ -670,7 +707,7 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
     ++new_points;
   }
   NewMonoPoints mono;
-  if (config_.map.mono_points && !new_segment) {
+  if (config_.map.mono_points && !fresh) {
     const MonoPointParams mono_params{config_.map.mono_point_min_parallax_deg,
                                       config_.optimization.pixel_sigma * std::sqrt(5.991),
                                       config_.triangulation.min_depth};
@@ -680,12 +717,11 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
   const KeyframeLineParams line_params{
       config_.triangulation, config_.optimization.pixel_sigma * std::sqrt(config_.optimization.mono_line_chi2)};
   const std::vector<int> reference_partner =
-      new_segment ? std::vector<int>{}
-                  : reference_line_partners(*map_.keyframe(kf_id), input.left, stereo_lines, tracked);
+      fresh ? std::vector<int>{} : reference_line_partners(*map_.keyframe(kf_id), input.left, stereo_lines, tracked);
   const NewKeyframeLines new_lines =
-      add_keyframe_lines(map_, kf_id, stereo_lines, new_segment ? map::kInvalidId : tracked.reference_keyframe,
+      add_keyframe_lines(map_, kf_id, stereo_lines, fresh ? map::kInvalidId : tracked.reference_keyframe,
                          reference_partner, stereo_.camera, line_params);
-  if (!new_segment) {
+  if (!fresh) {
     const auto ba = backend::local_bundle_adjustment(map_, kf_id, stereo_, config_.optimization);
     const auto [culled_points, culled_lines] = map_.cull(config_.map);
     spdlog::debug(

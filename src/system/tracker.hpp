@@ -98,6 +98,7 @@ class Tracker {
   int tracking_losses() const { return losses_; }
   int relocalisations() const { return relocalisations_; }
   int merges() const { return merges_; }
+  int segments_rebuilt() const { return rebuilds_; }  // thin starts rebuilt (tracking.rebuild_thin_start)
   const RelocalisationStats& relocalisation_stats() const { return relocaliser_.stats(); }
 
  private:
@@ -158,6 +159,10 @@ class Tracker {
   // Whether a frame has enough to start a map segment from: keypoints and stereo points, and with
   // init_counts_lines its detected lines and `stereo_lines` of them triangulated.
   bool can_start_segment(const FrameInput& input, int stereo_points, int stereo_lines) const;
+  // The same with points alone (init_counts_lines aside).
+  bool points_can_start_segment(const FrameInput& input, int stereo_points) const;
+  // Drops the current segment's landmarks (tracking.rebuild_thin_start): the keyframe being added maps its own.
+  void drop_segment_landmarks();
   // Per line of the new keyframe `kf`, its partner in the reference keyframe: the point matches' pairing, plus
   // pairs by appearance (keyframe_line_matching.hpp) for the lines neither those nor `stereo_lines` placed.
   std::vector<int> reference_line_partners(const map::KeyFrame& kf, const cv::Mat& image,
@@ -188,7 +193,9 @@ class Tracker {
   std::optional<double> last_timestamp_s_;
   double frame_interval_s_ = 0;  // the input's usual time between frames
   int segment_ = 0;              // the segment the current pose is in
-  int segments_started_ = 0, losses_ = 0, relocalisations_ = 0, merges_ = 0;
+  // The current segment was started on lines counted as points and has not been rebuilt or merged since.
+  bool segment_started_thin_ = false;
+  int segments_started_ = 0, losses_ = 0, relocalisations_ = 0, merges_ = 0, rebuilds_ = 0;
 
   mutable std::mutex reference_mutex_;
   MatchReference reference_;

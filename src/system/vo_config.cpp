@@ -16,6 +16,7 @@ TrackingParams load_tracking_params(const YAML::Node& section) {
   io::read_param(section, "init_min_keypoints", p.init_min_keypoints);
   io::read_param(section, "init_min_stereo", p.init_min_stereo);
   io::read_param(section, "init_counts_lines", p.init_counts_lines);
+  io::read_param(section, "rebuild_thin_start", p.rebuild_thin_start);
   io::read_param(section, "lines_carry_frames", p.lines_carry_frames);
   p.point_projection = load_point_projection_params(section["point_projection"]);
   io::read_param(section, "reference_image_area", p.reference_image_area);

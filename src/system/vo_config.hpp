@@ -30,6 +30,9 @@ struct TrackingParams {
   // a frame of edges and few corners (a plain room) can start a map; a line counts for a keypoint when detected
   // and for a stereo match when triangulated.
   bool init_counts_lines = true;
+  // A segment that only the lines let start is rebuilt from its first keyframe whose points alone would start one:
+  // the thin start's landmarks (whole-pixel depths from a few stereo points) are dropped, its poses kept.
+  bool rebuild_thin_start = true;
   // A frame whose points fall short of a pose is still matched to the local map's lines (by projection from the
   // pose the points gave, or the prediction) and tracked when points and lines together suffice; the keyframe
   // rule's min_tracked counts its tracked lines too, so such a frame adds landmarks where they are running out.

@@ -15,6 +15,8 @@ TEST(VoConfig, InitialisationThresholdsScaleDownWithTheImageArea) {
   ASSERT_DOUBLE_EQ(config.tracking.reference_image_area, 752.0 * 480.0);
   EXPECT_TRUE(config.tracking.init_counts_lines);
   EXPECT_FALSE(load_tracking_params(YAML::Load("{init_counts_lines: false}")).init_counts_lines);
+  EXPECT_TRUE(config.tracking.rebuild_thin_start);
+  EXPECT_FALSE(load_tracking_params(YAML::Load("{rebuild_thin_start: false}")).rebuild_thin_start);
   EXPECT_TRUE(config.tracking.lines_carry_frames);
   EXPECT_FALSE(load_tracking_params(YAML::Load("{lines_carry_frames: false}")).lines_carry_frames);
 

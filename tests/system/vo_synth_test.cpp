@@ -10,6 +10,7 @@
 
 #include "common/test_support.hpp"
 #include "eval/metrics.hpp"
+#include "io/frame_status.hpp"
 #include "system/vo_harness.hpp"
 #include "tools/robustness/robustness.hpp"
 #include "tools/synth/config.hpp"
@@ -225,6 +226,44 @@ TEST(VoSynth, LinesCountTowardsStartingAMap) {
                              with_lines.evaluation.ate.translation_m.rmse));
   EXPECT_GT(with_lines.result.frames_tracked, points_only.result.frames_tracked);
   EXPECT_LT(with_lines.evaluation.ate.translation_m.rmse, 0.15);
+}
+
+// The plain room starting at 30 % of the light (frames 0-5: 109-124 ORB keypoints, 61-66 stereo, 10-12 lines; then
+// 228-230 and 135-136): at thresholds 120 / 70 only the lines let frame 0 start the map, and that map is rebuilt
+// (tracking.rebuild_thin_start) at the first keyframe whose points alone meet them, once, in the same segment,
+// with every frame still tracked. A map that points started, or a run without the option, is never rebuilt.
+TEST(VoSynth, AMapStartedOnLinesIsRebuiltOncePointsSuffice) {
+  auto synth = plain_room(40);
+  synth.events = synth::parse_events({"off:0-5,gain=0.3"});
+  const auto dir = write_sequence(synth, "vo_synth_rebuild");
+  VoConfig config = small_preset_config();
+  config.tracking.reference_image_area = 0;
+  config.tracking.init_min_keypoints = 120;
+  config.tracking.init_min_stereo = 70;
+  config.tracking.rebuild_thin_start = false;
+  const auto kept = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "kept");
+  config.tracking.rebuild_thin_start = true;
+  const auto rebuilt = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "rebuilt");
+  config.tracking.init_min_keypoints = 100;  // frame 0's points alone start the map
+  config.tracking.init_min_stereo = 50;
+  const auto on_points = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "points");
+
+  const auto rebuilt_rows = io::read_frame_status(rebuilt.result.frames_file);
+  std::vector<std::size_t> rebuilt_at;
+  for (const auto& row : rebuilt_rows)
+    if (row.note.find("rebuilt") != std::string::npos) rebuilt_at.push_back(row.index);
+  RecordProperty("rebuilt_at_frame", rebuilt_at.empty() ? -1 : static_cast<int>(rebuilt_at.front()));
+  RecordProperty("ate_m", fmt::format("{:.4f} kept, {:.4f} rebuilt", kept.evaluation.ate.translation_m.rmse,
+                                      rebuilt.evaluation.ate.translation_m.rmse));
+  EXPECT_EQ(kept.result.segments_rebuilt, 0);
+  EXPECT_EQ(on_points.result.segments_rebuilt, 0);
+  ASSERT_EQ(rebuilt.result.segments_rebuilt, 1);
+  ASSERT_EQ(rebuilt_at.size(), 1u);
+  EXPECT_GT(rebuilt_at.front(), 0u);
+  EXPECT_TRUE(rebuilt_rows[rebuilt_at.front()].keyframe);
+  EXPECT_EQ(rebuilt.result.frames_uninitialised, 0u);
+  test::expect_every_frame_tracked(rebuilt, 40);
+  EXPECT_LT(rebuilt.evaluation.ate.translation_m.rmse, 0.15);
 }
 
 // Mono multi-view points (map.mono_points) where the stereo pair cannot place points: with the stereo depth gate at
