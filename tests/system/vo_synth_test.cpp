@@ -38,6 +38,15 @@ synth::SynthConfig plain_room(int frames) {
   return synth;
 }
 
+// The small preset's config with the map-start thresholds fixed (not scaled by the image area).
+VoConfig config_starting_at(int min_keypoints, int min_stereo) {
+  VoConfig config = small_preset_config();
+  config.tracking.reference_image_area = 0;
+  config.tracking.init_min_keypoints = min_keypoints;
+  config.tracking.init_min_stereo = min_stereo;
+  return config;
+}
+
 // Renders `synth` into <temp dir named `name`>/seq and returns the temp dir.
 fs::path write_sequence(const synth::SynthConfig& synth, const char* name) {
   const auto dir = test::temp_dir(name);
@@ -209,12 +218,9 @@ TEST(VoSynth, ProjectedMapLinesAddLineInliers) {
 // tracking.init_counts_lines its lines make up the difference, so the map starts a frame earlier.
 TEST(VoSynth, LinesCountTowardsStartingAMap) {
   const auto dir = write_sequence(plain_room(40), "vo_synth_init_lines");
-  VoConfig config = small_preset_config();
-  config.tracking.reference_image_area = 0;
   // Frame 0 has 241 keypoints (158 stereo), frame 1 247 (158), and 8 or more lines each: points alone start the
   // map at frame 1, points and lines at frame 0.
-  config.tracking.init_min_keypoints = 245;
-  config.tracking.init_min_stereo = 155;
+  VoConfig config = config_starting_at(245, 155);
   config.tracking.init_counts_lines = false;
   const auto points_only = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "points");
   config.tracking.init_counts_lines = true;
@@ -236,16 +242,12 @@ TEST(VoSynth, AMapStartedOnLinesIsRebuiltOncePointsSuffice) {
   auto synth = plain_room(40);
   synth.events = synth::parse_events({"off:0-5,gain=0.3"});
   const auto dir = write_sequence(synth, "vo_synth_rebuild");
-  VoConfig config = small_preset_config();
-  config.tracking.reference_image_area = 0;
-  config.tracking.init_min_keypoints = 120;
-  config.tracking.init_min_stereo = 70;
+  VoConfig config = config_starting_at(120, 70);
   config.tracking.rebuild_thin_start = false;
   const auto kept = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "kept");
   config.tracking.rebuild_thin_start = true;
   const auto rebuilt = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "rebuilt");
-  config.tracking.init_min_keypoints = 100;  // frame 0's points alone start the map
-  config.tracking.init_min_stereo = 50;
+  config = config_starting_at(100, 50);  // frame 0's points alone start the map
   const auto on_points = test::run_vo_with_opencv_frontend(dir / "seq", config, {}, dir / "points");
 
   const auto rebuilt_rows = io::read_frame_status(rebuilt.result.frames_file);
@@ -264,6 +266,15 @@ TEST(VoSynth, AMapStartedOnLinesIsRebuiltOncePointsSuffice) {
   EXPECT_EQ(rebuilt.result.frames_uninitialised, 0u);
   test::expect_every_frame_tracked(rebuilt, 40);
   EXPECT_LT(rebuilt.evaluation.ate.translation_m.rmse, 0.15);
+  // The frames before the rebuild keep the poses the thin map gave them; the rebuilt map tracks the rest.
+  ASSERT_EQ(rebuilt.trajectory.size(), kept.trajectory.size());
+  const std::size_t first_rebuilt = rebuilt_at.front();
+  for (std::size_t f = 0; f < first_rebuilt; ++f)
+    EXPECT_TRUE(rebuilt.trajectory[f].pose.isApprox(kept.trajectory[f].pose, 1e-12)) << "frame " << f;
+  bool moved = false;
+  for (std::size_t f = first_rebuilt + 1; f < rebuilt.trajectory.size(); ++f)
+    moved |= !rebuilt.trajectory[f].pose.isApprox(kept.trajectory[f].pose, 1e-9);
+  EXPECT_TRUE(moved) << "the rebuilt map tracked every later frame exactly as the thin one did";
 }
 
 // Mono multi-view points (map.mono_points) where the stereo pair cannot place points: with the stereo depth gate at
