@@ -652,8 +652,6 @@ bool Tracker::add_keyframe(const FrameInput& input, Tracked& tracked, bool new_s
   if (rebuild) {
     drop_segment_landmarks();
     frame.reset_associations();
-    tracked.reference_point_partner.clear();
-    tracked.reference_line_partner.clear();
     segment_started_thin_ = false;
     ++rebuilds_;
     spdlog::info("frame {}: map segment {} rebuilt from this frame's {} stereo points (it started on lines)",

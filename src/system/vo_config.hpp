@@ -31,7 +31,8 @@ struct TrackingParams {
   // and for a stereo match when triangulated.
   bool init_counts_lines = true;
   // A segment that only the lines let start is rebuilt from its first keyframe whose points alone would start one:
-  // the thin start's landmarks (whole-pixel depths from a few stereo points) are dropped, its poses kept.
+  // the thin start's landmarks are dropped, its poses kept (a map begun on a few points cost the frames after it
+  // more than it gave; docs/accuracy.md).
   bool rebuild_thin_start = true;
   // A frame whose points fall short of a pose is still matched to the local map's lines (by projection from the
   // pose the points gave, or the prediction) and tracked when points and lines together suffice; the keyframe
